@@ -1,0 +1,3 @@
+//! foton: a physically based, wavefront path tracer on bevy_ecs.
+
+pub mod scene;

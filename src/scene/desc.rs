@@ -1,0 +1,245 @@
+//! The scene description: plain data, as a loader reads it from a file.
+//!
+//! Every loader (one per format, `scene::lxs`, …) produces a [`SceneDesc`]; `scene::build` turns it
+//! into the bevy_ecs `World` the render schedule runs on. Nothing here knows about rendering.
+//! Geometry and lights are already in world space; images are decoded to linear RGB.
+
+use std::fmt;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec3};
+
+/// Where something came from: a file and a 1-based line.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Location {
+    pub file: PathBuf,
+    pub line: usize,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.file.display(), self.line)
+    }
+}
+
+/// A scene file could not be loaded: where, and why (with the offending text).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    pub location: Location,
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: error: {}", self.location, self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Something the loader skipped or read in a way the format does not say; the render goes on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneWarning {
+    pub location: Location,
+    pub message: String,
+}
+
+impl fmt::Display for SceneWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: warning: {}", self.location, self.message)
+    }
+}
+
+/// Everything a scene file says.
+#[derive(Clone, Debug)]
+pub struct SceneDesc {
+    pub camera: CameraDesc,
+    pub film: FilmDesc,
+    /// `Sampler "pixelsamples"`, if given.
+    pub pixel_samples: Option<u32>,
+    /// `SurfaceIntegrator "maxdepth"` or `"eyedepth"`, if given.
+    pub max_depth: Option<u32>,
+    pub filter: FilterDesc,
+    pub textures: Vec<ImageTexture>,
+    pub materials: Vec<MaterialDesc>,
+    pub shapes: Vec<ShapeDesc>,
+    pub lights: Vec<LightDesc>,
+    /// Warnings met while loading, in file order.
+    pub warnings: Vec<SceneWarning>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraDesc {
+    pub projection: Projection,
+    /// Camera space to world: camera space has x right, y up, z forward (the viewing direction).
+    pub camera_to_world: Mat4,
+    /// `screenwindow` [xmin xmax ymin ymax]; `None`: the default, the shorter image axis spans [-1, 1].
+    pub screen_window: Option<[f32; 4]>,
+    /// Thin lens: radius 0 is a pinhole.
+    pub lens_radius: f32,
+    pub focal_distance: f32,
+    pub location: Location,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// `fov` in degrees, spanning the shorter image axis.
+    Perspective { fov_degrees: f32 },
+    /// foton's extension `Camera "fisheye" "float fov" [180]`: equidistant, 0 to 360 degrees.
+    Fisheye { fov_degrees: f32 },
+    /// `Camera "environment"`: a 360 x 180 degree latitude-longitude panorama.
+    Equirectangular,
+    /// `Camera "orthographic"`: the screen window in camera-space units.
+    Orthographic,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct FilmDesc {
+    pub x_resolution: u32,
+    pub y_resolution: u32,
+    /// Display gamma for 8-bit output (LuxRender's `gamma`, default 2.2).
+    pub gamma: f32,
+    /// `filename` without extension, if given.
+    pub filename: Option<String>,
+    pub tonemap: ToneMap,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToneMap {
+    /// LuxRender's `autolinear`: exposure from the image's mean luminance.
+    AutoLinear,
+    /// `linear` (or any other kernel): a fixed scale.
+    Linear { scale: f32 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilterDesc {
+    pub kind: FilterKind,
+    /// Half-widths in pixels (LuxRender's `xwidth`, `ywidth`).
+    pub radius: Vec2,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FilterKind {
+    Box,
+    /// `alpha`: the falloff, as in pbrt: exp(-alpha x^2) - exp(-alpha r^2).
+    Gaussian { alpha: f32 },
+    BlackmanHarris,
+}
+
+/// A decoded image, linear RGB, rows from the top.
+#[derive(Clone, Debug)]
+pub struct ImageTexture {
+    pub name: String,
+    pub path: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    /// `width * height` linear RGB texels (already multiplied by `gain`, `gamma` undone).
+    pub texels: Arc<Vec<Vec3>>,
+    /// uv mapping: (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped (repeat).
+    pub scale: Vec2,
+    pub delta: Vec2,
+}
+
+pub type TextureId = usize;
+pub type MaterialId = usize;
+
+/// A colour parameter: a constant or an image texture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ColorParam {
+    Constant(Vec3),
+    Texture(TextureId),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialDesc {
+    /// Lambertian; `sigma` (Oren-Nayar) is ignored with a warning when non-zero.
+    Matte { kd: ColorParam },
+    /// Perfect specular reflection.
+    Mirror { kr: ColorParam },
+    /// Smooth dielectric.
+    Glass {
+        kr: ColorParam,
+        kt: ColorParam,
+        index: f32,
+    },
+    /// Cook-Torrance microfacet conductor; roughness as written in the file.
+    Metal {
+        kr: ColorParam,
+        u_roughness: f32,
+        v_roughness: f32,
+    },
+    /// Invisible: rays pass through (for light emitters).
+    Null,
+    /// `amount` of `second`, `1 - amount` of `first`.
+    Mix {
+        first: MaterialId,
+        second: MaterialId,
+        amount: f32,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// A sphere of `radius` around the object-space origin.
+    Sphere { radius: f32 },
+    /// Triangles in object space.
+    TriangleMesh {
+        positions: Vec<Vec3>,
+        /// Per-vertex shading normals, if given.
+        normals: Option<Vec<Vec3>>,
+        /// Per-vertex uv, if given.
+        uvs: Option<Vec<Vec2>>,
+        indices: Vec<[u32; 3]>,
+    },
+    /// The course's infinite plane through the object-space origin.
+    Plane { normal: Vec3 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeDesc {
+    pub geometry: Geometry,
+    pub object_to_world: Mat4,
+    /// `None`: no material was set; the builder uses a grey matte.
+    pub material: Option<MaterialId>,
+    pub area_light: Option<AreaLightDesc>,
+    pub location: Location,
+}
+
+/// `AreaLightSource "area"`, as written; the builder normalises `power` by the shape's area.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaLightDesc {
+    pub l: Vec3,
+    pub gain: f32,
+    /// Watts; with `efficacy` (lm/W) > 0 both, LuxRender scales L so that the emitter's
+    /// flux is power * efficacy: gain *= power * efficacy / (pi * area * luminance(L)).
+    pub power: f32,
+    pub efficacy: f32,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightDesc {
+    /// Radiant intensity `intensity` (L * gain) at `position`.
+    Point { position: Vec3, intensity: Vec3 },
+    Spot {
+        position: Vec3,
+        /// Unit vector the spot points along.
+        direction: Vec3,
+        intensity: Vec3,
+        /// Full cone half-angle (`coneangle`) and the width of its falloff (`conedeltaangle`), degrees.
+        cone_angle: f32,
+        cone_delta_angle: f32,
+    },
+    /// Light arriving from `direction_to_light` (unit, world space) with radiance `radiance`.
+    Distant {
+        direction_to_light: Vec3,
+        radiance: Vec3,
+    },
+    /// Environment light: constant `radiance`, times the lat-long map if given.
+    Infinite {
+        radiance: Vec3,
+        map: Option<TextureId>,
+        light_to_world: Mat4,
+    },
+}

@@ -1,0 +1,3 @@
+//! Scene loading: one loader per format, each producing a [`desc::SceneDesc`].
+
+pub mod desc;
