@@ -124,7 +124,9 @@ pub struct FilterDesc {
 pub enum FilterKind {
     Box,
     /// `alpha`: the falloff, as in pbrt: exp(-alpha x^2) - exp(-alpha r^2).
-    Gaussian { alpha: f32 },
+    Gaussian {
+        alpha: f32,
+    },
     BlackmanHarris,
 }
 

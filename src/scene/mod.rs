@@ -1,3 +1,5 @@
 //! Scene loading: one loader per format, each producing a [`desc::SceneDesc`].
 
+pub mod build;
 pub mod desc;
+pub mod lxs;

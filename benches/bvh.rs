@@ -1,0 +1,96 @@
+//! BVH build time and closest-hit throughput on a procedurally tessellated torus.
+//!
+//! `cargo bench --bench bvh -- --quick`
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use foton::accel::{Accel, Primitives};
+use glam::Vec3;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rand_xoshiro::rand_core::{Rng, SeedableRng};
+
+const RAYS: usize = 1 << 16;
+
+/// A torus (major radius 1, minor 0.3) of `2 · rings · sides` triangles.
+fn torus(rings: usize, sides: usize) -> Vec<[Vec3; 3]> {
+    use std::f32::consts::TAU;
+    let point = |i: usize, j: usize| {
+        let (u, v) = (TAU * i as f32 / rings as f32, TAU * j as f32 / sides as f32);
+        let r = 1.0 + 0.3 * v.cos();
+        Vec3::new(r * u.cos(), r * u.sin(), 0.3 * v.sin())
+    };
+    let mut tris = Vec::with_capacity(2 * rings * sides);
+    for i in 0..rings {
+        for j in 0..sides {
+            let (a, b) = (point(i, j), point(i + 1, j));
+            let (c, d) = (point(i + 1, j + 1), point(i, j + 1));
+            tris.push([a, b, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    tris
+}
+
+/// Rays from a sphere of radius 3 around the torus towards random points in its bounds:
+/// roughly half hit, as in a camera's view of an object.
+fn rays() -> (Vec<Vec3>, Vec<Vec3>) {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+    let mut uniform = || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0;
+    (0..RAYS)
+        .map(|_| {
+            let origin = 3.0 * Vec3::new(uniform(), uniform(), uniform()).normalize_or(Vec3::X);
+            let target = Vec3::new(1.3 * uniform(), 1.3 * uniform(), 0.3 * uniform());
+            (origin, target - origin)
+        })
+        .unzip()
+}
+
+fn bench(c: &mut Criterion) {
+    let primitives = Primitives {
+        triangles: torus(500, 200),
+        ..Default::default()
+    };
+    let mut group = c.benchmark_group("bvh");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(primitives.triangles.len() as u64));
+    group.bench_function("build_torus_200k", |b| {
+        b.iter(|| Accel::build(black_box(&primitives)))
+    });
+
+    let accel = Accel::build(&primitives);
+    let (origins, dirs) = rays();
+    let t_maxs = vec![f32::INFINITY; RAYS];
+    group.throughput(Throughput::Elements(RAYS as u64));
+    group.bench_function("closest_hit_1_thread", |b| {
+        b.iter(|| {
+            origins
+                .iter()
+                .zip(&dirs)
+                .filter(|&(&o, &d)| accel.closest_hit(o, d, 0.0, f32::INFINITY).is_some())
+                .count()
+        })
+    });
+    let mut hits = vec![None; RAYS];
+    group.bench_function("closest_hits_batch", |b| {
+        b.iter(|| accel.closest_hits(&origins, &dirs, 0.0, &t_maxs, &mut hits))
+    });
+    let mut occluded = vec![false; RAYS];
+    group.bench_function("any_hits_batch", |b| {
+        b.iter(|| accel.any_hits(&origins, &dirs, 0.0, &t_maxs, &mut occluded))
+    });
+    group.finish();
+    let s = accel.stats();
+    let hit_count = hits.iter().flatten().count();
+    println!(
+        "torus: {} triangles, {} nodes, {} leaves, max depth {}, max leaf {}, {hit_count}/{RAYS} rays hit",
+        primitives.triangles.len(),
+        s.nodes,
+        s.leaves,
+        s.max_depth,
+        s.max_leaf_size
+    );
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

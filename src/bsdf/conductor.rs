@@ -1,0 +1,75 @@
+//! Rough conductor: the Cook-Torrance microfacet BRDF (Cook and Torrance 1982,
+//! "A Reflectance Model for Computer Graphics"; in the form of Walter et al.
+//! 2007, eq. 20):
+//!
+//!   f(wo, wi) = D(wh) G(wo, wi) F(wo . wh) / (4 |cos theta_o| |cos theta_i|)
+//!
+//! with wh = normalize(wo + wi), D the GGX distribution, G the
+//! height-correlated Smith term (see `microfacet.rs`), and F Schlick's
+//! approximation with F0 = Kr, the colour the scene gives (LuxRender's
+//! metal2 takes a Fresnel texture; the course's scenes give a colour).
+//! Sampling draws visible normals (Heitz 2018), so the estimator weight
+//! f |cos theta_i| / pdf = F G / G1(wo).
+
+use super::BsdfSample;
+use super::fresnel::schlick;
+use super::microfacet::TrowbridgeReitz;
+use glam::{Vec2, Vec3};
+
+#[derive(Clone, Copy, Debug)]
+pub struct Conductor {
+    pub f0: Vec3,
+    pub distribution: TrowbridgeReitz,
+}
+
+/// The half vector, if wo and wi are both in the upper hemisphere.
+fn half_vector(wo: Vec3, wi: Vec3) -> Option<Vec3> {
+    if wo.z > 0.0 && wi.z > 0.0 {
+        (wo + wi).try_normalize()
+    } else {
+        None
+    }
+}
+
+impl Conductor {
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let Some(wh) = half_vector(wo, wi) else {
+            return Vec3::ZERO;
+        };
+        let denom = 4.0 * wo.z * wi.z;
+        if denom <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let dg = self.distribution.d(wh) * self.distribution.g(wo, wi);
+        schlick(self.f0, wo.dot(wh)) * (dg / denom)
+    }
+
+    /// The visible-normal density mapped through reflection, whose Jacobian
+    /// is d(wh)/d(wi) = 1 / (4 |wo . wh|) (Walter et al. 2007, eq. 14).
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let Some(wh) = half_vector(wo, wi) else {
+            return 0.0;
+        };
+        let cos_oh = wo.dot(wh);
+        if cos_oh <= 0.0 {
+            return 0.0;
+        }
+        self.distribution.d_visible(wo, wh) / (4.0 * cos_oh)
+    }
+
+    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let wh = self.distribution.sample_wm(wo, u);
+        // Reflect wo about the sampled microfacet normal.
+        let wi = 2.0 * wo.dot(wh) * wh - wo;
+        let pdf = self.pdf(wo, wi);
+        (pdf > 0.0).then(|| BsdfSample {
+            wi,
+            f: self.eval(wo, wi),
+            pdf,
+            delta: false,
+        })
+    }
+}

@@ -1,0 +1,57 @@
+//! An orthonormal shading frame built around a normal.
+
+use glam::Vec3;
+
+/// Orthonormal basis (`x`, `y`, `z`); `z` is the shading normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    pub x: Vec3,
+    pub y: Vec3,
+    pub z: Vec3,
+}
+
+impl Frame {
+    /// A frame around the unit vector `n`, without branches on a threshold or
+    /// normalisation: Duff et al. 2017, "Building an Orthonormal Basis,
+    /// Revisited" (JCGT 6(1)), Listing 3. `copysign` makes it continuous
+    /// everywhere except across the plane n.z = 0, and exact at n = -z.
+    pub fn from_z(n: Vec3) -> Self {
+        let sign = 1.0f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Self {
+            x: Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            y: Vec3::new(b, sign + n.y * n.y * a, -n.y),
+            z: n,
+        }
+    }
+
+    /// A frame around the unit vector `n` whose `x` follows the tangent `t`
+    /// (e.g. dp/du, which orients anisotropic roughness) projected onto the
+    /// tangent plane: y = n x t made exactly orthogonal to n (Gram-Schmidt),
+    /// then x = y x n. Falls back to [`Frame::from_z`] when `t` is within
+    /// about 1e-3 rad of +-n or degenerate, where the projection is noise.
+    pub fn from_xz(t: Vec3, n: Vec3) -> Self {
+        let y = n.cross(t);
+        if y.length_squared() > 1e-6 * t.length_squared()
+            && let Some(y) = (y - n * n.dot(y)).try_normalize()
+        {
+            return Self {
+                x: y.cross(n),
+                y,
+                z: n,
+            };
+        }
+        Self::from_z(n)
+    }
+
+    /// World to local: the coordinates of `v` along `x`, `y`, `z`.
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))
+    }
+
+    /// Local to world.
+    pub fn to_world(&self, v: Vec3) -> Vec3 {
+        self.x * v.x + self.y * v.y + self.z * v.z
+    }
+}

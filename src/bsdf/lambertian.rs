@@ -1,0 +1,44 @@
+//! Lambertian (ideal diffuse) reflection: f = R / pi on the upper hemisphere.
+
+use super::BsdfSample;
+use super::sampling::sample_cosine_hemisphere;
+use glam::{Vec2, Vec3};
+use std::f32::consts::FRAC_1_PI;
+
+#[derive(Clone, Copy, Debug)]
+pub struct Lambertian {
+    pub reflectance: Vec3,
+}
+
+impl Lambertian {
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wo.z > 0.0 && wi.z > 0.0 {
+            self.reflectance * FRAC_1_PI
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Cosine-weighted hemisphere sampling: pdf = cos(theta_i) / pi.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z > 0.0 && wi.z > 0.0 {
+            wi.z * FRAC_1_PI
+        } else {
+            0.0
+        }
+    }
+
+    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let wi = sample_cosine_hemisphere(u);
+        let pdf = self.pdf(wo, wi);
+        (pdf > 0.0).then(|| BsdfSample {
+            wi,
+            f: self.eval(wo, wi),
+            pdf,
+            delta: false,
+        })
+    }
+}

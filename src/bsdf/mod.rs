@@ -1,0 +1,207 @@
+//! Scattering functions sampled by the path tracer at each hit, in the local
+//! shading frame (z = shading normal; see [`frame::Frame`]).
+//!
+//! LuxRender materials map to them: matte -> Lambertian, mirror -> specular
+//! reflection, glass -> smooth dielectric, metal2 -> microfacet conductor.
+//! Directions point away from the surface; the dispatch here sanitises
+//! inputs (non-finite or unnormalised directions, samples outside [0, 1)) and
+//! outputs, so that no NaN or infinity escapes.
+
+mod conductor;
+mod dielectric;
+pub mod frame;
+pub mod fresnel;
+mod lambertian;
+pub mod microfacet;
+mod sampling;
+mod specular_reflection;
+
+use conductor::Conductor;
+use dielectric::Dielectric;
+use glam::{Vec2, Vec3};
+use lambertian::Lambertian;
+use microfacet::TrowbridgeReitz;
+use specular_reflection::SpecularReflection;
+
+#[derive(Clone, Copy, Debug)]
+pub enum Bsdf {
+    Lambertian {
+        reflectance: Vec3,
+    },
+    SpecularReflection {
+        reflectance: Vec3,
+    },
+    /// `eta` = index inside / index outside; the normal points outside.
+    Dielectric {
+        reflectance: Vec3,
+        transmittance: Vec3,
+        eta: f32,
+    },
+    /// GGX roughness along the local x and y axes (see [`roughness_to_alpha`]).
+    Conductor {
+        f0: Vec3,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    pub wi: Vec3,
+    /// f(wo, wi) (for a delta lobe: the lobe's weight divided by |cos wi| so
+    /// that f*|cos|/pdf is right)
+    pub f: Vec3,
+    pub pdf: f32,
+    /// a delta lobe: pdf is a probability, not a density; skip MIS and light
+    /// sampling
+    pub delta: bool,
+}
+
+/// The largest f32 below 1, the upper bound of a canonical sample.
+const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// A sample coordinate clamped to [0, 1); NaN becomes 0.
+fn canonical(x: f32) -> f32 {
+    if x >= 0.0 {
+        x.min(ONE_MINUS_EPSILON)
+    } else {
+        0.0
+    }
+}
+
+/// A unit direction, or None for zero or non-finite input.
+fn direction(w: Vec3) -> Option<Vec3> {
+    w.try_normalize()
+}
+
+impl Bsdf {
+    /// f(wo, wi) for non-delta lobes (0 for delta ones); both in the local
+    /// frame, pointing away from the surface.
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let (Some(wo), Some(wi)) = (direction(wo), direction(wi)) else {
+            return Vec3::ZERO;
+        };
+        let f = match *self {
+            Bsdf::Lambertian { reflectance } => Lambertian { reflectance }.eval(wo, wi),
+            Bsdf::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => conductor(f0, alpha_x, alpha_y).eval(wo, wi),
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => Vec3::ZERO,
+        };
+        if f.is_finite() { f } else { Vec3::ZERO }
+    }
+
+    /// The density (per solid angle) with which [`Bsdf::sample`] returns
+    /// `wi`; 0 for delta lobes.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let (Some(wo), Some(wi)) = (direction(wo), direction(wi)) else {
+            return 0.0;
+        };
+        let pdf = match *self {
+            Bsdf::Lambertian { reflectance } => Lambertian { reflectance }.pdf(wo, wi),
+            Bsdf::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => conductor(f0, alpha_x, alpha_y).pdf(wo, wi),
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => 0.0,
+        };
+        if pdf.is_finite() && pdf > 0.0 {
+            pdf
+        } else {
+            0.0
+        }
+    }
+
+    /// `u`: a 2D sample, `uc`: a 1D sample (to choose reflection or
+    /// transmission).
+    pub fn sample(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
+        let wo = direction(wo)?;
+        let u = Vec2::new(canonical(u.x), canonical(u.y));
+        let s = match *self {
+            Bsdf::Lambertian { reflectance } => Lambertian { reflectance }.sample(wo, u),
+            Bsdf::SpecularReflection { reflectance } => {
+                SpecularReflection { reflectance }.sample(wo)
+            }
+            Bsdf::Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            } => Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            }
+            .sample(wo, canonical(uc)),
+            Bsdf::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => conductor(f0, alpha_x, alpha_y).sample(wo, u),
+        }?;
+        (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
+    }
+
+    /// True when every lobe is a delta (mirror, smooth glass): no light
+    /// sampling.
+    pub fn is_delta(&self) -> bool {
+        matches!(
+            self,
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. }
+        )
+    }
+
+    /// A grey-level estimate of reflectance, for Russian roulette and for the
+    /// ray caster: the albedo colour (for glass, see `Dielectric::albedo`).
+    pub fn albedo(&self) -> Vec3 {
+        match *self {
+            Bsdf::Lambertian { reflectance } | Bsdf::SpecularReflection { reflectance } => {
+                reflectance
+            }
+            Bsdf::Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            } => Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            }
+            .albedo(),
+            Bsdf::Conductor { f0, .. } => f0,
+        }
+    }
+}
+
+fn conductor(f0: Vec3, alpha_x: f32, alpha_y: f32) -> Conductor {
+    Conductor {
+        f0,
+        distribution: TrowbridgeReitz::new(alpha_x, alpha_y),
+    }
+}
+
+/// The roughness as LuxRender scene files write it (metal2's `uroughness`,
+/// `vroughness`) to GGX alpha.
+///
+/// LuxRender 1.x's metal2 (`materials/metal2.cpp`, LuxRender/Lux on GitHub)
+/// builds `SchlickDistribution(u * v, anisotropy)`, and
+/// `core/reflection/microfacetdistribution/schlickdistribution.h` defines
+/// D = Z(cos) A(phi) / pi with Z(t) = r / (1 + (r - 1) t^2)^2, r = u v.
+/// Isotropic GGX is D = alpha^2 / (pi (1 + (alpha^2 - 1) cos^2)^2)
+/// (Walter et al. 2007, eq. 33 rewritten in cos): the same function with
+/// r = alpha^2. So alpha = roughness exactly for u = v, and alpha_x = u,
+/// alpha_y = v keeps alpha_x alpha_y = r and the wider lobe along the larger
+/// roughness (Schlick's A(phi) shapes the anisotropy differently).
+///
+/// (The Blinn mapping exponent = 1 / roughness is that of LuxRender's older
+/// `metal`, `shinymetal`, `plastic`, `roughglass` (pbrt-v1 heritage), whose
+/// GGX/Beckmann match would be alpha = sqrt(2 / (e + 2)), Walter et al. 2007;
+/// it does not apply to metal2.)
+///
+/// Clamped to [`microfacet::ALPHA_MIN`] = 1e-3 (so near-zero roughness stays
+/// finite) and [`microfacet::ALPHA_MAX`] = 1; NaN gives 1e-3.
+pub fn roughness_to_alpha(roughness: f32) -> f32 {
+    microfacet::clamp_alpha(roughness)
+}

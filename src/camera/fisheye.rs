@@ -1,0 +1,89 @@
+//! The equidistant fisheye: the angle from the view axis grows linearly with the distance from
+//! the image centre (Paul Bourke, "Computer generated angular fisheye projections", 2001; the
+//! seed report's §3). Aperture 0 to 360 degrees.
+
+use std::f32::consts::PI;
+
+use bevy_ecs::prelude::*;
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::{CameraStage, world_has};
+use crate::integrator::batch::PathBatch;
+use crate::settings::RenderSettings;
+
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Fisheye {
+    /// The full aperture, 0 to 360 degrees.
+    pub fov_degrees: f32,
+    pub fit: FisheyeFit,
+}
+
+/// How the image circle sits in the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FisheyeFit {
+    /// Each axis normalised to [-1, 1] on its own: on a non-square image an ellipse touching all
+    /// four borders (the original renderer and Blender Cycles' `FISHEYE_EQUIDISTANT`).
+    Ellipse,
+    /// The shorter axis normalised to [-1, 1]: a circle inscribed in the frame.
+    Circle,
+}
+
+pub fn register(pass: &mut Schedule, world: &mut World) {
+    if world_has::<Fisheye>(world) {
+        pass.add_systems(
+            generate_fisheye_rays
+                .run_if(any_with_component::<Fisheye>)
+                .in_set(CameraStage::Generate),
+        );
+    }
+}
+
+/// The camera-space unit direction for a film point normalised to [-1, 1] (y up), or `None`
+/// outside the image circle (r > 1).
+pub fn fisheye_direction(normalized: Vec2, fov_radians: f32) -> Option<Vec3> {
+    let r = normalized.length();
+    if r > 1.0 {
+        return None;
+    }
+    let phi = normalized.y.atan2(normalized.x);
+    let theta = r * fov_radians * 0.5;
+    let (sin_theta, cos_theta) = theta.sin_cos();
+    Some(Vec3::new(
+        sin_theta * phi.cos(),
+        sin_theta * phi.sin(),
+        cos_theta,
+    ))
+}
+
+fn generate_fisheye_rays(
+    camera: Single<&Fisheye>,
+    settings: Res<RenderSettings>,
+    mut batch: ResMut<PathBatch>,
+) {
+    let fov = camera.fov_degrees.clamp(0.0, 360.0) * PI / 180.0;
+    let size = Vec2::new(settings.width as f32, settings.height as f32);
+    let half_extent = match camera.fit {
+        FisheyeFit::Ellipse => size * 0.5,
+        FisheyeFit::Circle => Vec2::splat(size.min_element() * 0.5),
+    };
+    let batch = &mut *batch;
+    let n = batch.len;
+    (
+        &batch.film_position[..n],
+        &mut batch.origin[..n],
+        &mut batch.direction[..n],
+        &mut batch.alive[..n],
+    )
+        .into_par_iter()
+        .with_min_len(1024)
+        .for_each(|(film, origin, direction, alive)| {
+            let centred = (*film - size * 0.5) / half_extent;
+            *origin = Vec3::ZERO;
+            match fisheye_direction(Vec2::new(centred.x, -centred.y), fov) {
+                Some(d) => *direction = d,
+                // Outside the image circle: a black sample that costs no ray.
+                None => *alive = false,
+            }
+        });
+}

@@ -1,0 +1,112 @@
+//! `foton render`: load, build, render, write.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::SceneArgs;
+use crate::film::{Film, exposure_scale, write_image};
+use crate::integrator::{RenderStats, Renderer};
+use crate::scene::build::build_world;
+use crate::scene::desc::FilmDesc;
+use crate::scene::lxs;
+
+/// A loaded scene, ready to render.
+pub struct Prepared {
+    pub renderer: Renderer,
+    pub film: FilmDesc,
+}
+
+/// Loads the scene, prints its warnings, builds the world and the schedules.
+pub fn prepare(args: &SceneArgs) -> Result<Prepared, String> {
+    if let Some(threads) = args.threads {
+        // Fails only if the pool was built already (a second render in one process).
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.max(1))
+            .build_global();
+    }
+    let desc = lxs::load(&args.scene).map_err(|e| e.to_string())?;
+    for warning in &desc.warnings {
+        eprintln!("{warning}");
+    }
+    let film = desc.film.clone();
+    let (world, notes) = build_world(desc, &args.render_options());
+    for note in notes {
+        eprintln!("{}: note: {note}", args.scene.display());
+    }
+    let mut renderer = Renderer::new(world);
+    if args.verbose {
+        eprintln!("{}", renderer.describe());
+    }
+    Ok(Prepared { renderer, film })
+}
+
+pub fn run(
+    args: &SceneArgs,
+    output: Option<PathBuf>,
+    exposure: Option<f32>,
+    repeat: u32,
+) -> Result<(), String> {
+    let output = output.unwrap_or_else(|| default_output(&args.scene));
+    let mut all = Vec::new();
+    for _ in 0..repeat.max(1) {
+        let mut prepared = prepare(args)?;
+        let stats = render_with_progress(&mut prepared.renderer);
+        let film = prepared.renderer.world.resource::<Film>();
+        let pixels = film.mean();
+        let scale = exposure
+            .unwrap_or_else(|| exposure_scale(prepared.film.tonemap, &pixels, prepared.film.gamma));
+        write_image(&output, film.width(), film.height(), &pixels, scale)
+            .map_err(|e| format!("error: {}: {e}", output.display()))?;
+        if film.rejected_samples() > 0 {
+            eprintln!(
+                "warning: {} non-finite samples were dropped",
+                film.rejected_samples()
+            );
+        }
+        println!("{} written: {}", output.display(), summary(&stats));
+        all.push(stats);
+    }
+    if all.len() > 1 {
+        let mut times: Vec<Duration> = all.iter().map(|s| s.elapsed).collect();
+        times.sort();
+        println!(
+            "{} renders: median {:.2} s (min {:.2} s, max {:.2} s)",
+            all.len(),
+            times[times.len() / 2].as_secs_f64(),
+            times[0].as_secs_f64(),
+            times[times.len() - 1].as_secs_f64()
+        );
+    }
+    Ok(())
+}
+
+/// Renders, with a progress bar and ETA on a terminal.
+pub fn render_with_progress(renderer: &mut Renderer) -> RenderStats {
+    let passes = renderer.samples_per_pixel() as u64;
+    let bar = ProgressBar::new(passes);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp, ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let stats = renderer.render(|done| bar.set_position(done as u64));
+    bar.finish_and_clear();
+    stats
+}
+
+pub fn summary(stats: &RenderStats) -> String {
+    format!(
+        "{:.2} s, {} spp, {:.2} M paths/s, {:.2} M rays/s",
+        stats.elapsed.as_secs_f64(),
+        stats.passes,
+        stats.paths_per_second() / 1e6,
+        stats.rays as f64 / stats.elapsed.as_secs_f64().max(1e-9) / 1e6
+    )
+}
+
+fn default_output(scene: &Path) -> PathBuf {
+    let stem = scene.file_stem().unwrap_or_default().to_string_lossy();
+    PathBuf::from(format!("{stem}.png"))
+}

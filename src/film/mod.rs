@@ -1,0 +1,14 @@
+//! The film: pixel filtering by importance sampling, accumulation of radiance, exposure, image
+//! output and image comparison.
+
+#[allow(clippy::module_inception)]
+mod film;
+pub mod filter;
+pub mod metrics;
+pub mod output;
+pub mod tonemap;
+
+pub use film::Film;
+pub use filter::PixelFilter;
+pub use output::{read_exr, read_png_linear, write_image};
+pub use tonemap::{exposure_scale, luminance};

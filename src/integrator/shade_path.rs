@@ -1,0 +1,228 @@
+//! The path tracer's shading stage: at each path vertex, emitted light (MIS-weighted against
+//! light sampling), one light sample (next-event estimation), one BSDF sample for the next ray,
+//! Russian roulette. Veach 1997 ch. 9 for the MIS, pbrt-v4 §13.4 for the structure.
+
+use bevy_ecs::prelude::*;
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::batch::{HitBatch, PathBatch, ShadowBatch};
+use super::shading::{PathSlots, Scene, ShadowRay, face_forward};
+use crate::accel::Hit;
+use crate::light::LightTable;
+use crate::material::MaterialTable;
+use crate::material::texture::TextureTable;
+use crate::sampling::warp::power_heuristic;
+use crate::settings::RenderSettings;
+use crate::shape::geometry::{NO_EMITTER, SceneGeometry};
+
+/// Bounces after which Russian roulette may end a path.
+const ROULETTE_DEPTH: u32 = 2;
+
+#[allow(clippy::too_many_arguments)]
+pub fn shade_path_vertices(
+    geometry: Res<SceneGeometry>,
+    materials: Res<MaterialTable>,
+    textures: Option<Res<TextureTable>>,
+    lights: Res<LightTable>,
+    settings: Res<RenderSettings>,
+    hits: Res<HitBatch>,
+    mut batch: ResMut<PathBatch>,
+    mut shadows: ResMut<ShadowBatch>,
+) {
+    let scene = Scene {
+        geometry: &geometry,
+        materials: &materials,
+        textures: textures.as_deref(),
+        lights: &lights,
+        max_depth: settings.max_depth,
+    };
+    let n = batch.len;
+    shadows.clear(n);
+    let b = &mut *batch;
+    let s = &mut *shadows;
+    let paths = (
+        &hits.hit[..n],
+        &mut b.origin[..n],
+        &mut b.direction[..n],
+        &mut b.throughput[..n],
+        &mut b.radiance[..n],
+        &mut b.depth[..n],
+        &mut b.pass_through[..n],
+        &mut b.rng[..n],
+        &mut b.scatter_pdf[..n],
+        &mut b.alive[..n],
+    );
+    let shadow_slots = (
+        &mut s.origin[..],
+        &mut s.direction[..],
+        &mut s.t_max[..],
+        &mut s.contribution[..],
+    );
+    paths
+        .into_par_iter()
+        .zip(shadow_slots.into_par_iter())
+        .with_min_len(256)
+        .for_each(
+            |(
+                (
+                    hit,
+                    origin,
+                    direction,
+                    throughput,
+                    radiance,
+                    depth,
+                    pass_through,
+                    rng,
+                    pdf,
+                    alive,
+                ),
+                (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
+            )| {
+                if !*alive {
+                    return;
+                }
+                let path = PathSlots {
+                    origin,
+                    direction,
+                    throughput,
+                    radiance,
+                    depth,
+                    pass_through,
+                    rng,
+                    scatter_pdf: pdf,
+                    alive,
+                };
+                if let Some(ray) = shade_vertex(&scene, hit.as_ref(), path) {
+                    *shadow_origin = ray.origin;
+                    *shadow_direction = ray.direction;
+                    *shadow_t_max = ray.t_max;
+                    *shadow_contribution = ray.contribution;
+                }
+            },
+        );
+}
+
+fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option<ShadowRay> {
+    let lights = scene.lights;
+    let Some(hit) = hit else {
+        if let Some((index, environment)) = lights.environment() {
+            let light = environment.radiance(*path.direction);
+            let weight = emission_weight(lights, *path.scatter_pdf, index, || {
+                environment.pdf(*path.direction)
+            });
+            path.add_radiance(*path.throughput * light * weight);
+        }
+        *path.alive = false;
+        return None;
+    };
+    let mut surface = scene
+        .geometry
+        .surface_point(hit, *path.origin, *path.direction);
+    let wo = -*path.direction;
+
+    if surface.emitter != NO_EMITTER
+        && surface.geometric_normal.dot(wo) > 0.0
+        && let Some((index, area)) = lights.area_light(surface.emitter)
+    {
+        let weight = emission_weight(lights, *path.scatter_pdf, index, || {
+            area.pdf(*path.origin, surface.position, surface.geometric_normal)
+        });
+        path.add_radiance(*path.throughput * area.radiance() * weight);
+    }
+
+    let choice = path.rng.next_f32();
+    let Some(bsdf) = scene
+        .materials
+        .bsdf_at(surface.material, surface.uv, scene.textures, choice)
+    else {
+        path.pass_through(&surface);
+        return None;
+    };
+    if *path.depth >= scene.max_depth {
+        *path.alive = false;
+        return None;
+    }
+    face_forward(&mut surface, &bsdf, wo);
+    let frame = crate::bsdf::frame::Frame::from_z(surface.shading_normal);
+    let wo_local = frame.to_local(wo);
+
+    // Next-event estimation: one light, chosen by power.
+    let mut shadow = None;
+    if !bsdf.is_delta() {
+        let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
+        if let Some((index, probability)) = lights.choose(u_choose) {
+            shadow = lights.lights[index]
+                .sample(surface.position, u_light)
+                .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
+                .and_then(|sample| {
+                    // Light below the true surface would leak through it.
+                    if sample.wi.dot(surface.geometric_normal) <= 0.0 {
+                        return None;
+                    }
+                    let wi_local = frame.to_local(sample.wi);
+                    let f = bsdf.eval(wo_local, wi_local) * wi_local.z.abs();
+                    if f == Vec3::ZERO {
+                        return None;
+                    }
+                    let light_pdf = probability * sample.pdf;
+                    let weight = if sample.delta {
+                        1.0
+                    } else {
+                        power_heuristic(1, light_pdf, 1, bsdf.pdf(wo_local, wi_local))
+                    };
+                    let contribution = *path.throughput * f * sample.radiance * weight / light_pdf;
+                    contribution.is_finite().then(|| {
+                        ShadowRay::towards(&surface, sample.wi, sample.distance, contribution)
+                    })
+                });
+        }
+    }
+
+    // The next ray, by BSDF sampling.
+    let (u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
+    match bsdf.sample(wo_local, u_direction, u_lobe) {
+        Some(sample) if sample.pdf > 0.0 => {
+            let wi = frame.to_world(sample.wi);
+            let reflects = sample.wi.z * wo_local.z > 0.0;
+            // A reflection the shading normal allows but the true surface does not.
+            if !sample.delta && reflects && wi.dot(surface.geometric_normal) <= 0.0 {
+                *path.alive = false;
+                return shadow;
+            }
+            *path.scatter_pdf = if sample.delta { 0.0 } else { sample.pdf };
+            path.scatter(&surface, wi, sample.f * sample.wi.z.abs() / sample.pdf);
+        }
+        _ => {
+            *path.alive = false;
+            return shadow;
+        }
+    }
+
+    // Russian roulette (pbrt-v4 §13.4.3): end low-throughput paths, reweight the survivors.
+    let max_throughput = path.throughput.max_element();
+    if *path.depth > ROULETTE_DEPTH && max_throughput < 1.0 {
+        let q = (1.0 - max_throughput).max(0.05);
+        if path.rng.next_f32() < q {
+            *path.alive = false;
+        } else {
+            *path.throughput /= 1.0 - q;
+        }
+    }
+    shadow
+}
+
+/// The MIS weight of light found by BSDF sampling: 1 after a camera ray or a delta lobe (light
+/// sampling could not have made it), else the power heuristic against light sampling.
+fn emission_weight(
+    lights: &LightTable,
+    scatter_pdf: f32,
+    light: usize,
+    light_pdf: impl FnOnce() -> f32,
+) -> f32 {
+    if scatter_pdf <= 0.0 {
+        return 1.0;
+    }
+    let light_pdf = lights.selection_probability(light) * light_pdf();
+    power_heuristic(1, scatter_pdf, 1, light_pdf)
+}

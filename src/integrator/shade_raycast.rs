@@ -1,0 +1,205 @@
+//! The ray caster's shading stage (Whitted 1980, as the course's first assignment asks): direct
+//! light from every light with one shadow ray each, Lambert for matte surfaces and a normalised
+//! Phong lobe for metals, and mirror reflection and refraction continuing the ray up to the
+//! maximum depth. Area and environment lights take one sample per pass, so soft shadows
+//! converge with the samples per pixel.
+
+use std::f32::consts::PI;
+
+use bevy_ecs::prelude::*;
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::batch::{HitBatch, PathBatch, ShadowBatch};
+use super::shading::{PathSlots, Scene, ShadowRay, face_forward};
+use crate::accel::Hit;
+use crate::bsdf::Bsdf;
+use crate::light::LightTable;
+use crate::material::MaterialTable;
+use crate::material::texture::TextureTable;
+use crate::settings::RenderSettings;
+use crate::shape::geometry::{NO_EMITTER, SceneGeometry};
+use crate::shape::surface::SurfacePoint;
+
+/// The ray caster needs one shadow ray per light at each shaded point.
+pub fn shadow_rays_per_path(lights: &LightTable) -> usize {
+    lights.lights.len().max(1)
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn shade_raycast_hits(
+    geometry: Res<SceneGeometry>,
+    materials: Res<MaterialTable>,
+    textures: Option<Res<TextureTable>>,
+    lights: Res<LightTable>,
+    settings: Res<RenderSettings>,
+    hits: Res<HitBatch>,
+    mut batch: ResMut<PathBatch>,
+    mut shadows: ResMut<ShadowBatch>,
+) {
+    let scene = Scene {
+        geometry: &geometry,
+        materials: &materials,
+        textures: textures.as_deref(),
+        lights: &lights,
+        max_depth: settings.max_depth,
+    };
+    let n = batch.len;
+    shadows.clear(n);
+    let k = shadows.rays_per_path;
+    let b = &mut *batch;
+    let s = &mut *shadows;
+    let paths = (
+        &hits.hit[..n],
+        &mut b.origin[..n],
+        &mut b.direction[..n],
+        &mut b.throughput[..n],
+        &mut b.radiance[..n],
+        &mut b.depth[..n],
+        &mut b.pass_through[..n],
+        &mut b.rng[..n],
+        &mut b.scatter_pdf[..n],
+        &mut b.alive[..n],
+    );
+    let shadow_slots = (
+        s.origin.par_chunks_mut(k),
+        s.direction.par_chunks_mut(k),
+        s.t_max.par_chunks_mut(k),
+        s.contribution.par_chunks_mut(k),
+    );
+    paths
+        .into_par_iter()
+        .zip(shadow_slots.into_par_iter())
+        .with_min_len(64)
+        .for_each(
+            |(
+                (
+                    hit,
+                    origin,
+                    direction,
+                    throughput,
+                    radiance,
+                    depth,
+                    pass_through,
+                    rng,
+                    pdf,
+                    alive,
+                ),
+                (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
+            )| {
+                if !*alive {
+                    return;
+                }
+                let path = PathSlots {
+                    origin,
+                    direction,
+                    throughput,
+                    radiance,
+                    depth,
+                    pass_through,
+                    rng,
+                    scatter_pdf: pdf,
+                    alive,
+                };
+                shade_hit(&scene, hit.as_ref(), path, |slot, ray| {
+                    shadow_origin[slot] = ray.origin;
+                    shadow_direction[slot] = ray.direction;
+                    shadow_t_max[slot] = ray.t_max;
+                    shadow_contribution[slot] = ray.contribution;
+                });
+            },
+        );
+}
+
+fn shade_hit(
+    scene: &Scene,
+    hit: Option<&Hit>,
+    mut path: PathSlots,
+    mut emit_shadow: impl FnMut(usize, ShadowRay),
+) {
+    let Some(hit) = hit else {
+        if let Some((_, environment)) = scene.lights.environment() {
+            path.add_radiance(*path.throughput * environment.radiance(*path.direction));
+        }
+        *path.alive = false;
+        return;
+    };
+    let mut surface = scene
+        .geometry
+        .surface_point(hit, *path.origin, *path.direction);
+    let wo = -*path.direction;
+    if surface.emitter != NO_EMITTER
+        && surface.geometric_normal.dot(wo) > 0.0
+        && let Some((_, area)) = scene.lights.area_light(surface.emitter)
+    {
+        path.add_radiance(*path.throughput * area.radiance());
+    }
+    let choice = path.rng.next_f32();
+    let Some(bsdf) = scene
+        .materials
+        .bsdf_at(surface.material, surface.uv, scene.textures, choice)
+    else {
+        path.pass_through(&surface);
+        return;
+    };
+    face_forward(&mut surface, &bsdf, wo);
+
+    if bsdf.is_delta() {
+        // Mirror and glass: follow the reflected or refracted ray (glass picks one by Fresnel).
+        if *path.depth >= scene.max_depth {
+            *path.alive = false;
+            return;
+        }
+        let frame = crate::bsdf::frame::Frame::from_z(surface.shading_normal);
+        let (u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
+        match bsdf.sample(frame.to_local(wo), u_direction, u_lobe) {
+            Some(sample) if sample.pdf > 0.0 => {
+                let wi = frame.to_world(sample.wi);
+                path.scatter(&surface, wi, sample.f * sample.wi.z.abs() / sample.pdf);
+            }
+            _ => *path.alive = false,
+        }
+        return;
+    }
+
+    for (slot, light) in scene.lights.lights.iter().enumerate() {
+        let u = path.rng.next_2d();
+        let Some(sample) = light.sample(surface.position, u) else {
+            continue;
+        };
+        let cos = sample.wi.dot(surface.shading_normal);
+        if sample.pdf <= 0.0 || cos <= 0.0 || sample.wi.dot(surface.geometric_normal) <= 0.0 {
+            continue;
+        }
+        let f = local_shading(&bsdf, &surface, wo, sample.wi);
+        let contribution = *path.throughput * f * cos * sample.radiance / sample.pdf;
+        if contribution.is_finite() && contribution != Vec3::ZERO {
+            emit_shadow(
+                slot,
+                ShadowRay::towards(&surface, sample.wi, sample.distance, contribution),
+            );
+        }
+    }
+    *path.alive = false;
+}
+
+/// The ray caster's reflection models: Lambert, and for metals a normalised Phong lobe
+/// (Lafortune & Willems 1994: (n + 2) / 2pi cos^n of the angle to the mirror direction) with
+/// the exponent that matches the GGX alpha, n = 2 / alpha^2 - 2 (Walter et al. 2007).
+fn local_shading(bsdf: &Bsdf, surface: &SurfacePoint, wo: Vec3, wi: Vec3) -> Vec3 {
+    match bsdf {
+        Bsdf::Conductor {
+            f0,
+            alpha_x,
+            alpha_y,
+        } => {
+            let alpha = (alpha_x * alpha_y).sqrt().max(1e-3);
+            let exponent = (2.0 / (alpha * alpha) - 2.0).max(1.0);
+            let n = surface.shading_normal;
+            let mirror = 2.0 * wo.dot(n) * n - wo;
+            let cos_r = mirror.dot(wi).max(0.0);
+            *f0 * (exponent + 2.0) / (2.0 * PI) * cos_r.powf(exponent)
+        }
+        other => other.albedo() / PI,
+    }
+}

@@ -1,0 +1,171 @@
+//! Lights: point, spot and distant lights and the environment are entities of their own; area
+//! lights are shapes with an `AreaEmitter`. At startup [`build_light_table`] gathers them into
+//! the [`LightTable`] the shade stage samples, choosing lights in proportion to their power.
+
+pub mod area;
+pub mod distant;
+pub mod infinite;
+pub mod point;
+pub mod spot;
+
+use bevy_ecs::prelude::*;
+use glam::{Vec2, Vec3};
+
+use crate::sampling::Distribution1D;
+use crate::shape::geometry::SceneGeometry;
+use area::AreaLight;
+use distant::DistantLight;
+use infinite::{Environment, InfiniteLight};
+use point::PointLight;
+use spot::SpotLight;
+
+/// Light arriving at a point from one sampled direction.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the point towards the light.
+    pub wi: Vec3,
+    /// Distance to the light point (infinite for distant and environment lights).
+    pub distance: f32,
+    pub radiance: Vec3,
+    /// Solid-angle density; 1 for delta lights.
+    pub pdf: f32,
+    /// A point or directional light: no MIS, BSDF sampling can never hit it.
+    pub delta: bool,
+}
+
+#[derive(Clone, Debug)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Distant(DistantLight),
+    Environment(Environment),
+    Area(AreaLight),
+}
+
+impl Light {
+    pub fn sample(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
+        match self {
+            Light::Point(light) => light.sample(p),
+            Light::Spot(light) => light.sample(p),
+            Light::Distant(light) => Some(light.sample()),
+            Light::Environment(light) => light.sample(u),
+            Light::Area(light) => light.sample(p, u),
+        }
+    }
+}
+
+#[derive(Resource, Clone, Debug)]
+pub struct LightTable {
+    pub lights: Vec<Light>,
+    selection: Distribution1D,
+    /// Light index of each of the geometry's emissive shapes.
+    emitter_light: Vec<u32>,
+    environment: Option<u32>,
+}
+
+impl LightTable {
+    /// Picks a light in proportion to its power: (index, probability).
+    pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
+        if self.lights.is_empty() {
+            return None;
+        }
+        let (index, probability, _) = self.selection.sample(u);
+        Some((index, probability))
+    }
+
+    pub fn selection_probability(&self, index: usize) -> f32 {
+        self.selection.pdf(index)
+    }
+
+    /// The area light of emissive shape `emitter`, with its index.
+    pub fn area_light(&self, emitter: u32) -> Option<(usize, &AreaLight)> {
+        let index = *self.emitter_light.get(emitter as usize)? as usize;
+        match self.lights.get(index) {
+            Some(Light::Area(light)) => Some((index, light)),
+            _ => None,
+        }
+    }
+
+    pub fn environment(&self) -> Option<(usize, &Environment)> {
+        let index = self.environment? as usize;
+        match self.lights.get(index) {
+            Some(Light::Environment(light)) => Some((index, light)),
+            _ => None,
+        }
+    }
+
+    /// The kinds of light, counted, e.g. "2 point, 1 area".
+    pub fn kinds(&self) -> String {
+        let mut counts: Vec<(&str, usize)> = Vec::new();
+        for light in &self.lights {
+            let kind = match light {
+                Light::Point(_) => "point",
+                Light::Spot(_) => "spot",
+                Light::Distant(_) => "distant",
+                Light::Environment(_) => "infinite",
+                Light::Area(_) => "area",
+            };
+            match counts.iter_mut().find(|(k, _)| *k == kind) {
+                Some((_, n)) => *n += 1,
+                None => counts.push((kind, 1)),
+            }
+        }
+        let parts: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();
+        parts.join(", ")
+    }
+
+    /// Whether any light can be hit by a BSDF-sampled ray (then MIS weights are needed).
+    pub fn has_hittable_lights(&self) -> bool {
+        self.environment.is_some() || !self.emitter_light.is_empty()
+    }
+}
+
+/// Startup system: the light table from the light entities and the emissive shapes.
+pub fn build_light_table(
+    points: Query<&PointLight>,
+    spots: Query<&SpotLight>,
+    distants: Query<&DistantLight>,
+    environments: Query<&InfiniteLight>,
+    geometry: Res<SceneGeometry>,
+    mut commands: Commands,
+) {
+    let radius = geometry.bounds_radius;
+    let mut lights = Vec::new();
+    let mut power = Vec::new();
+    for light in &points {
+        power.push(light.power());
+        lights.push(Light::Point(*light));
+    }
+    for light in &spots {
+        power.push(light.power());
+        lights.push(Light::Spot(*light));
+    }
+    for light in &distants {
+        power.push(light.power(radius));
+        lights.push(Light::Distant(*light));
+    }
+    // One environment at most: the builder merges several into the first, with a warning.
+    let environment = environments.iter().next().map(|light| {
+        let env = Environment::new(light);
+        power.push(env.power(radius));
+        lights.push(Light::Environment(env));
+        (lights.len() - 1) as u32
+    });
+    let mut emitter_light = Vec::new();
+    for shape in &geometry.emissive_shapes {
+        match AreaLight::new(shape, &geometry) {
+            Some(light) => {
+                power.push(light.power());
+                lights.push(Light::Area(light));
+                emitter_light.push((lights.len() - 1) as u32);
+            }
+            None => emitter_light.push(u32::MAX),
+        }
+    }
+    commands.insert_resource(LightTable {
+        selection: Distribution1D::new(&power),
+        lights,
+        emitter_light,
+        environment,
+    });
+}

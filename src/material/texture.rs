@@ -1,0 +1,39 @@
+//! Image textures, looked up with bilinear filtering and repeat wrapping.
+
+use bevy_ecs::prelude::*;
+use glam::{Vec2, Vec3};
+
+use crate::scene::desc::ImageTexture;
+
+/// Present only when the scene has textures.
+#[derive(Resource, Clone, Debug)]
+pub struct TextureTable {
+    pub textures: Vec<ImageTexture>,
+}
+
+impl TextureTable {
+    /// The colour of texture `id` at `uv`. The image's first row is t = 0 (LuxRender's
+    /// convention; LuxBlend writes vscale -1, vdelta 1 to put Blender's v = 0 at the bottom).
+    pub fn lookup(&self, id: usize, uv: Vec2) -> Vec3 {
+        match self.textures.get(id) {
+            Some(texture) => sample_bilinear(texture, uv * texture.scale + texture.delta),
+            None => Vec3::ZERO,
+        }
+    }
+}
+
+/// Bilinear lookup with repeat wrapping; texel centres at half-integers.
+pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
+    let (w, h) = (texture.width as i64, texture.height as i64);
+    if w == 0 || h == 0 || !st.is_finite() {
+        return Vec3::ZERO;
+    }
+    let x = st.x.rem_euclid(1.0) * w as f32 - 0.5;
+    let y = st.y.rem_euclid(1.0) * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let texel = |i: i64, j: i64| texture.texels[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize];
+    let (i, j) = (x0 as i64, y0 as i64);
+    (texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx) * (1.0 - fy)
+        + (texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx) * fy
+}

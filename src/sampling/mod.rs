@@ -1,0 +1,15 @@
+//! Sample generation: per-path random streams, per-pixel sample patterns, warps from the unit
+//! square to the domains light transport integrates over, and tabulated distributions.
+
+pub mod distribution;
+mod hash;
+pub mod pixel_sampler;
+pub mod rng;
+pub mod warp;
+
+pub use distribution::{Distribution1D, Distribution2D};
+pub use pixel_sampler::{PixelSampler, SamplerKind};
+pub use rng::PathRng;
+
+/// The largest f32 below 1 (1 - 2^-24): samples are clamped to it so that they stay in [0, 1).
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;

@@ -1,0 +1,312 @@
+//! Per-pixel 2D sample patterns: independent, jittered (stratified) and correlated
+//! multi-jittered.
+
+use glam::Vec2;
+
+use super::ONE_MINUS_EPSILON;
+use super::hash::{fold32, hash_words, unit_f32};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerKind {
+    Independent,
+    Stratified,
+    MultiJittered,
+}
+
+/// Generates the 2D samples of every pixel as a pure function of (pixel, sample index,
+/// dimension), so any thread can compute any sample.
+///
+/// Sample indices `s >= spp` belong to a further pass ("epoch" `s / spp`) that gets its own,
+/// independent pattern: a render may run more passes than planned.
+#[derive(Clone, Debug)]
+pub struct PixelSampler {
+    kind: SamplerKind,
+    spp: u32,
+    seed: u64,
+    /// Grid columns and rows: m * n >= spp.
+    m: u32,
+    n: u32,
+}
+
+impl PixelSampler {
+    pub fn new(kind: SamplerKind, samples_per_pixel: u32, seed: u64) -> Self {
+        let spp = samples_per_pixel.max(1);
+        let root = f64::from(spp).sqrt();
+        // Jittered: the squarest grid with m * n >= spp. CMJ: Kensler's m = floor(sqrt(N)).
+        let m = match kind {
+            SamplerKind::MultiJittered => root.floor() as u32,
+            _ => root.ceil() as u32,
+        }
+        .max(1);
+        let n = spp.div_ceil(m);
+        Self {
+            kind,
+            spp,
+            seed,
+            m,
+            n,
+        }
+    }
+
+    pub fn kind(&self) -> SamplerKind {
+        self.kind
+    }
+
+    /// A 2D sample in [0,1)^2 for sample `sample_index` of `pixel` in `dimension` (0: the film
+    /// position, 1: the lens, further dimensions are allowed).
+    pub fn sample_2d(&self, pixel: u32, sample_index: u32, dimension: u32) -> Vec2 {
+        let epoch = sample_index / self.spp;
+        let s = sample_index % self.spp;
+        let key = hash_words(&[
+            self.seed,
+            u64::from(pixel),
+            u64::from(dimension),
+            u64::from(epoch),
+        ]);
+        let p = match self.kind {
+            SamplerKind::Independent => {
+                let h = hash_words(&[key, u64::from(s)]);
+                Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32))
+            }
+            SamplerKind::Stratified => self.jittered(s, key),
+            SamplerKind::MultiJittered => cmj(s, self.spp, self.m, self.n, fold32(key)),
+        };
+        p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
+    }
+
+    /// Jittered sampling: sample `s` goes to stratum permute(s) of the m x n grid, the
+    /// permutation seeded per (pixel, dimension, epoch) so that dimensions are decorrelated.
+    fn jittered(&self, s: u32, key: u64) -> Vec2 {
+        let stratum = permute(s, self.m * self.n, fold32(key));
+        let h = hash_words(&[key, u64::from(s)]);
+        let jitter = Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32));
+        (Vec2::new((stratum % self.m) as f32, (stratum / self.m) as f32) + jitter)
+            / Vec2::new(self.m as f32, self.n as f32)
+    }
+}
+
+/// Correlated multi-jittered sampling for arbitrary N: Kensler 2013, "Correlated Multi-Jittered
+/// Sampling", Pixar Technical Memo 13-01, §5 (final listing, aspect a = 1). Sample `s` (already
+/// in 0..N) is shuffled, the columns and rows of the m x n grid are permuted as wholes
+/// ("correlated" shuffles), and the result is a Latin hypercube in x and y at resolution N.
+fn cmj(s: u32, big_n: u32, m: u32, n: u32, p: u32) -> Vec2 {
+    let s = permute(s, big_n, p.wrapping_mul(0x5163_3e2d));
+    let sx = permute(s % m, m, p.wrapping_mul(0x68bc_21eb));
+    let sy = permute(s / m, n, p.wrapping_mul(0x02e5_be93));
+    let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
+    let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
+    Vec2::new(
+        (sx as f32 + (sy as f32 + jx) / n as f32) / m as f32,
+        (s as f32 + jy) / big_n as f32,
+    )
+}
+
+/// Kensler 2013, §3: the element at `i` of a pseudo-random permutation of 0..l selected by `p`.
+/// A hash that is a bijection on the next power of two, with cycle-walking down to l.
+fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+    if l <= 1 {
+        return 0;
+    }
+    let mut w = l - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    loop {
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | p >> 27);
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^= i >> 5;
+        if i < l {
+            break;
+        }
+    }
+    i.wrapping_add(p) % l
+}
+
+/// Kensler 2013, §3: a hash of (i, p) to a float in [0, 1).
+fn randfloat(mut i: u32, p: u32) -> f32 {
+    i ^= p;
+    i ^= i >> 17;
+    i ^= i >> 10;
+    i = i.wrapping_mul(0xb365_34e5);
+    i ^= i >> 12;
+    i ^= i >> 21;
+    i = i.wrapping_mul(0x93fc_4795);
+    i ^= 0xdf6e_307f;
+    i ^= i >> 17;
+    i = i.wrapping_mul(1 | p >> 18);
+    (i as f32 * (1.0 / 4_294_967_808.0)).min(ONE_MINUS_EPSILON)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const KINDS: [SamplerKind; 3] = [
+        SamplerKind::Independent,
+        SamplerKind::Stratified,
+        SamplerKind::MultiJittered,
+    ];
+
+    #[test]
+    fn permute_is_a_permutation() {
+        for l in [1, 2, 3, 7, 16, 17, 100] {
+            for p in [0, 1, 0xdead_beef] {
+                let mut seen = vec![false; l as usize];
+                for i in 0..l {
+                    let j = permute(i, l, p) as usize;
+                    assert!(!seen[j]);
+                    seen[j] = true;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn samples_in_unit_square_including_extra_passes() {
+        for kind in KINDS {
+            for spp in [1, 2, 5, 16, 33] {
+                let sampler = PixelSampler::new(kind, spp, 3);
+                for pixel in 0..20 {
+                    for s in 0..3 * spp {
+                        for dim in 0..3 {
+                            let u = sampler.sample_2d(pixel, s, dim);
+                            assert!(u.cmpge(Vec2::ZERO).all() && u.cmplt(Vec2::ONE).all());
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn stratified_one_sample_per_stratum() {
+        for spp in [16, 64, 12, 8] {
+            let sampler = PixelSampler::new(SamplerKind::Stratified, spp, 11);
+            let (m, n) = (sampler.m, sampler.n);
+            assert!(m * n >= spp && m.abs_diff(n) <= 1);
+            for pixel in 0..50 {
+                for dim in 0..2 {
+                    for epoch in 0..2 {
+                        let mut counts = vec![0; (m * n) as usize];
+                        for s in epoch * spp..(epoch + 1) * spp {
+                            let u = sampler.sample_2d(pixel, s, dim);
+                            let cell = (u.x * m as f32) as u32 + m * (u.y * n as f32) as u32;
+                            counts[cell as usize] += 1;
+                        }
+                        // Each stratum at most once, and spp distinct strata are hit.
+                        assert!(counts.iter().all(|&c| c <= 1));
+                        assert_eq!(counts.iter().sum::<u32>(), spp);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn cmj_is_latin_hypercube_and_jittered() {
+        for spp in [16, 64, 256] {
+            let sampler = PixelSampler::new(SamplerKind::MultiJittered, spp, 5);
+            let m = sampler.m;
+            assert_eq!(m * m, spp);
+            for pixel in 0..30 {
+                for dim in 0..2 {
+                    let mut rows = vec![0; spp as usize];
+                    let mut cols = vec![0; spp as usize];
+                    let mut cells = vec![0; spp as usize];
+                    for s in 0..spp {
+                        let u = sampler.sample_2d(pixel, s, dim);
+                        cols[(u.x * spp as f32) as usize] += 1;
+                        rows[(u.y * spp as f32) as usize] += 1;
+                        cells[((u.x * m as f32) as u32 + m * (u.y * m as f32) as u32) as usize] +=
+                            1;
+                    }
+                    assert!(rows.iter().all(|&c| c == 1));
+                    assert!(cols.iter().all(|&c| c == 1));
+                    assert!(cells.iter().all(|&c| c == 1));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn patterns_differ_between_pixels_dimensions_and_passes() {
+        for kind in KINDS {
+            let pattern = |seed, pixel, dim, first| {
+                let sampler = PixelSampler::new(kind, 16, seed);
+                (first..first + 16)
+                    .map(|s| sampler.sample_2d(pixel, s, dim))
+                    .collect::<Vec<_>>()
+            };
+            let base = pattern(1, 0, 0, 0);
+            assert_ne!(base, pattern(1, 1, 0, 0), "{kind:?}");
+            assert_ne!(base, pattern(1, 0, 1, 0), "{kind:?}");
+            assert_ne!(base, pattern(1, 0, 0, 16), "{kind:?}");
+            assert_ne!(base, pattern(2, 0, 0, 0), "{kind:?}");
+        }
+    }
+
+    #[test]
+    fn sampler_is_deterministic() {
+        for kind in KINDS {
+            let a = PixelSampler::new(kind, 64, 42);
+            let b = PixelSampler::new(kind, 64, 42);
+            for s in 0..200 {
+                assert_eq!(a.sample_2d(77, s, 1), b.sample_2d(77, s, 1));
+            }
+        }
+    }
+
+    /// Estimates the integral of a smooth function over [0,1)^2 with 256 spp in many pixels and
+    /// ranks the mean absolute errors. Theory for smooth integrands: independent ~ N^-1/2,
+    /// jittered ~ N^-3/4 (per pixel, 16x16 strata), CMJ additionally stratifies both 1D
+    /// projections into N strata, which removes most of the error of the additive part of the
+    /// integrand (here exp(x) + sin(4y), with a weaker x y interaction).
+    #[test]
+    fn convergence_ranks_cmj_stratified_independent() {
+        let f = |u: Vec2| u.x.exp() + (4.0 * u.y).sin() + u.x * u.y;
+        // Exact: (e - 1) + (1 - cos 4)/4 + 1/4.
+        let exact = (std::f64::consts::E - 1.0) + (1.0 - 4f64.cos()) / 4.0 + 0.25;
+        let error = |kind| {
+            let sampler = PixelSampler::new(kind, 256, 9);
+            let pixels = 1000;
+            let mut total = 0.0;
+            for pixel in 0..pixels {
+                let estimate = (0..256)
+                    .map(|s| f64::from(f(sampler.sample_2d(pixel, s, 0))))
+                    .sum::<f64>()
+                    / 256.0;
+                total += (estimate - exact).abs();
+            }
+            total / f64::from(pixels)
+        };
+        let (e_mj, e_st, e_ind) = (
+            error(SamplerKind::MultiJittered),
+            error(SamplerKind::Stratified),
+            error(SamplerKind::Independent),
+        );
+        assert!(e_mj < e_st && e_st < e_ind, "{e_mj} {e_st} {e_ind}");
+        // And by clear margins (measured: ratios ~0.08 and ~0.45; each mean over 1000 pixels has
+        // a relative std of ~3%), not by noise.
+        assert!(
+            e_st < 0.25 * e_ind && e_mj < 0.6 * e_st,
+            "{e_mj} {e_st} {e_ind}"
+        );
+    }
+}

@@ -1,0 +1,175 @@
+//! `Camera`, `Film` and `PixelFilter`.
+
+use glam::Vec2;
+
+use super::params::ParamList;
+use super::parser::Parser;
+use crate::scene::desc::{CameraDesc, FilterDesc, FilterKind, Projection, SceneError, ToneMap};
+
+impl Parser {
+    /// Camera space is the CTM's space: camera_to_world = CTM^-1; the world starts afresh.
+    pub(super) fn camera(
+        &mut self,
+        kind: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<(), SceneError> {
+        let fov = params.float("fov")?;
+        let check_fov = |default: f32, max: f32| {
+            let fov = fov.unwrap_or(default);
+            if fov > 0.0 && fov <= max {
+                Ok(fov)
+            } else {
+                Err(self.error(
+                    line,
+                    format!("Camera \"{kind}\": fov {fov} is not in (0, {max}]"),
+                ))
+            }
+        };
+        let known = ["perspective", "fisheye", "environment", "orthographic"];
+        let projection = match kind {
+            "perspective" => Projection::Perspective {
+                fov_degrees: check_fov(90.0, 179.0)?,
+            },
+            "fisheye" => Projection::Fisheye {
+                fov_degrees: check_fov(180.0, 360.0)?,
+            },
+            "environment" => Projection::Equirectangular,
+            "orthographic" => Projection::Orthographic,
+            _ => Projection::Perspective {
+                fov_degrees: check_fov(90.0, 179.0)?,
+            },
+        };
+        if !known.contains(&kind) {
+            self.warn(
+                line,
+                format!("Camera \"{kind}\" unknown: using \"perspective\""),
+            );
+        }
+        let lens_radius = params.float("lensradius")?.unwrap_or(0.0);
+        let focal_distance = params.float("focaldistance")?.unwrap_or(1e6);
+        if lens_radius < 0.0 || focal_distance <= 0.0 {
+            return Err(self.error(
+                line,
+                format!("Camera: lensradius {lens_radius} or focaldistance {focal_distance} out of range"),
+            ));
+        }
+        if self.state.ctm.determinant().abs() < 1e-12 {
+            return Err(self.error(line, "Camera: the current transformation is not invertible"));
+        }
+        self.camera = CameraDesc {
+            projection,
+            camera_to_world: self.state.ctm.inverse(),
+            screen_window: params.array::<4>("screenwindow")?,
+            lens_radius,
+            focal_distance,
+            location: self.location(line),
+        };
+        self.state.ctm = glam::Mat4::IDENTITY;
+        Ok(())
+    }
+
+    pub(super) fn film_directive(
+        &mut self,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<(), SceneError> {
+        let film = &self.film;
+        let x_resolution = self
+            .positive_int(params, "xresolution", line)?
+            .unwrap_or(film.x_resolution);
+        let y_resolution = self
+            .positive_int(params, "yresolution", line)?
+            .unwrap_or(film.y_resolution);
+        let gamma = params.float("gamma")?.unwrap_or(2.2);
+        if gamma <= 0.0 {
+            return Err(self.error(line, format!("Film: gamma {gamma} must be positive")));
+        }
+        let tonemap = match params.string("tonemapkernel")?.as_deref() {
+            None | Some("autolinear") => ToneMap::AutoLinear,
+            Some("linear") => {
+                // LuxRender's linear tone map, after the ISO speed definition: a scene luminance
+                // of 10 / sensitivity, exposed for `exposure` s at f-number `fstop`, maps to
+                // 118/255 on a display of gamma `linear_gamma`:
+                // scale = exposure / fstop^2 * sensitivity * 0.65 / 10 * (118/255)^gamma.
+                let sensitivity = params.float("linear_sensitivity")?.unwrap_or(100.0);
+                let exposure = params.float("linear_exposure")?.unwrap_or(1.0 / 1000.0);
+                let fstop = params.float("linear_fstop")?.unwrap_or(2.8);
+                let display_gamma = params.float("linear_gamma")?.unwrap_or(gamma);
+                let scale = exposure / (fstop * fstop) * sensitivity * 0.65 / 10.0
+                    * (118.0f32 / 255.0).powf(display_gamma);
+                ToneMap::Linear { scale }
+            }
+            Some(other) => {
+                self.warn(
+                    line,
+                    format!("Film: tonemapkernel \"{other}\" unsupported: linear, scale 1"),
+                );
+                ToneMap::Linear { scale: 1.0 }
+            }
+        };
+        self.film = crate::scene::desc::FilmDesc {
+            x_resolution,
+            y_resolution,
+            gamma,
+            filename: params.string("filename")?.map(without_image_extension),
+            tonemap,
+        };
+        Ok(())
+    }
+
+    /// `xwidth`/`ywidth` are radii; defaults as LuxRender's (box 0.5, others 2).
+    pub(super) fn pixel_filter(
+        &mut self,
+        kind: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<(), SceneError> {
+        let kind = match kind {
+            "box" => FilterKind::Box,
+            "gaussian" => FilterKind::Gaussian {
+                alpha: params.float("alpha")?.unwrap_or(2.0),
+            },
+            "blackmanharris" => FilterKind::BlackmanHarris,
+            _ => {
+                self.warn(
+                    line,
+                    format!("PixelFilter \"{kind}\" unsupported: box of radius 0.5"),
+                );
+                params.ignore_all();
+                self.filter = FilterDesc {
+                    kind: FilterKind::Box,
+                    radius: Vec2::splat(0.5),
+                };
+                return Ok(());
+            }
+        };
+        let default = if kind == FilterKind::Box { 0.5 } else { 2.0 };
+        let radius = Vec2::new(
+            params.float("xwidth")?.unwrap_or(default),
+            params.float("ywidth")?.unwrap_or(default),
+        );
+        if radius.min_element() <= 0.0 {
+            return Err(self.error(
+                line,
+                format!("PixelFilter: width {radius} must be positive"),
+            ));
+        }
+        self.filter = FilterDesc { kind, radius };
+        Ok(())
+    }
+}
+
+/// The film's output name without an image extension (LuxBlend writes none, but names like
+/// `cornell-box.Scene.00244` contain dots, so only known extensions are removed).
+fn without_image_extension(filename: String) -> String {
+    const EXTENSIONS: &[&str] = &[".png", ".exr", ".tga", ".jpg", ".jpeg", ".flm"];
+    EXTENSIONS
+        .iter()
+        .find_map(|ext| {
+            let stem_len = filename.len().checked_sub(ext.len())?;
+            let (stem, tail) = filename.split_at_checked(stem_len)?;
+            tail.eq_ignore_ascii_case(ext).then(|| stem.to_string())
+        })
+        .unwrap_or(filename)
+}

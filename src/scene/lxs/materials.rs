@@ -1,0 +1,222 @@
+//! `Material`, `MakeNamedMaterial` and `Texture`.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+
+use super::images;
+use super::params::{ColorSource, ParamList};
+use super::parser::Parser;
+use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
+
+/// LuxRender's default diffuse grey, also what unknown materials become.
+const GREY: Vec3 = Vec3::splat(0.5);
+
+impl Parser {
+    pub(super) fn material(
+        &mut self,
+        kind: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<MaterialDesc, SceneError> {
+        Ok(match kind {
+            "matte" => {
+                if let Some(sigma) = params.float("sigma")?
+                    && sigma != 0.0
+                {
+                    self.warn(
+                        line,
+                        format!("matte: sigma {sigma} (Oren-Nayar) unsupported: Lambertian"),
+                    );
+                }
+                MaterialDesc::Matte {
+                    kd: self.color_param(params, "Kd", GREY, line)?,
+                }
+            }
+            "mirror" => MaterialDesc::Mirror {
+                kr: self.color_param(params, "Kr", Vec3::ONE, line)?,
+            },
+            "glass" => MaterialDesc::Glass {
+                kr: self.color_param(params, "Kr", Vec3::ONE, line)?,
+                kt: self.color_param(params, "Kt", Vec3::ONE, line)?,
+                index: params.float("index")?.unwrap_or(1.5),
+            },
+            "metal2" => {
+                let kr = self.color_param(params, "Kr", Vec3::ONE, line)?;
+                // The course's `roughness` sets both, unless LuxRender's own are given.
+                let both = params.float("roughness")?;
+                let (u, v) = (params.float("uroughness")?, params.float("vroughness")?);
+                if both.is_some() && u.is_some() && v.is_some() {
+                    self.warn(
+                        line,
+                        "metal2: \"roughness\" ignored: uroughness and vroughness given",
+                    );
+                }
+                let default = both.unwrap_or(0.1);
+                MaterialDesc::Metal {
+                    kr,
+                    u_roughness: u.unwrap_or(default),
+                    v_roughness: v.unwrap_or(default),
+                }
+            }
+            "null" => MaterialDesc::Null,
+            "mix" => {
+                let mut named = |key: &str| -> Result<usize, SceneError> {
+                    let name = params
+                        .string(key)?
+                        .ok_or_else(|| self.error(line, format!("mix: \"{key}\" missing")))?;
+                    self.named_materials.get(&name).copied().ok_or_else(|| {
+                        self.error(line, format!("mix: \"{key}\" \"{name}\": no such material"))
+                    })
+                };
+                let first = named("namedmaterial1")?;
+                let second = named("namedmaterial2")?;
+                let amount = params.float("amount")?.unwrap_or(0.5);
+                MaterialDesc::Mix {
+                    first,
+                    second,
+                    amount,
+                }
+            }
+            _ => {
+                self.warn(
+                    line,
+                    format!("material type \"{kind}\" unsupported: grey matte"),
+                );
+                params.ignore_all();
+                MaterialDesc::Matte {
+                    kd: ColorParam::Constant(GREY),
+                }
+            }
+        })
+    }
+
+    /// A colour or a reference to a texture defined earlier.
+    fn color_param(
+        &self,
+        params: &mut ParamList,
+        name: &str,
+        default: Vec3,
+        line: usize,
+    ) -> Result<ColorParam, SceneError> {
+        match params.color(name)? {
+            None => Ok(ColorParam::Constant(default)),
+            Some(ColorSource::Rgb(rgb)) => Ok(ColorParam::Constant(rgb)),
+            Some(ColorSource::Texture(texture)) => {
+                self.named_textures.get(&texture).copied().ok_or_else(|| {
+                    self.error(
+                        line,
+                        format!("\"{name}\" names texture \"{texture}\", which is not defined"),
+                    )
+                })
+            }
+        }
+    }
+
+    /// `Texture "name" "color" "class" ...`, or the course's `Texture "name" "string filename"`.
+    pub(super) fn texture(
+        &mut self,
+        strings: &[String],
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<(), SceneError> {
+        let name = strings[0].clone();
+        let class = match strings {
+            [_, _, class] => class.as_str(),
+            [_] => {
+                self.warn(
+                    line,
+                    format!("Texture \"{name}\" has no type and class: read as an imagemap"),
+                );
+                "imagemap"
+            }
+            _ => {
+                return Err(self.error(
+                    line,
+                    format!("Texture \"{name}\": expected a type and a class"),
+                ));
+            }
+        };
+        let texture = match class {
+            "imagemap" => {
+                let id = self.image_texture(&name, line, params)?;
+                ColorParam::Texture(id)
+            }
+            "constant" => match params.color("value")? {
+                Some(ColorSource::Rgb(rgb)) => ColorParam::Constant(rgb),
+                _ => {
+                    return Err(self.error(
+                        line,
+                        format!("Texture \"{name}\": constant without a \"value\""),
+                    ));
+                }
+            },
+            _ => {
+                self.warn(
+                    line,
+                    format!("Texture \"{name}\": class \"{class}\" unsupported: constant grey"),
+                );
+                params.ignore_all();
+                ColorParam::Constant(GREY)
+            }
+        };
+        self.named_textures.insert(name, texture);
+        Ok(())
+    }
+
+    /// Decodes an image map into `textures`: texel = (value/255)^gamma * gain.
+    fn image_texture(
+        &mut self,
+        name: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<usize, SceneError> {
+        let filename = params
+            .string("filename")?
+            .ok_or_else(|| self.error(line, format!("Texture \"{name}\": \"filename\" missing")))?;
+        let gamma = params.float("gamma")?.unwrap_or(2.2);
+        let gain = params.float("gain")?.unwrap_or(1.0);
+        let scale = Vec2::new(
+            params.float("uscale")?.unwrap_or(1.0),
+            params.float("vscale")?.unwrap_or(1.0),
+        );
+        let delta = Vec2::new(
+            params.float("udelta")?.unwrap_or(0.0),
+            params.float("vdelta")?.unwrap_or(0.0),
+        );
+        let what = format!("Texture \"{name}\" \"{filename}\"");
+        let id = self.load_image(name, &filename, gamma, gain, line, &what)?;
+        self.textures[id].scale = scale;
+        self.textures[id].delta = delta;
+        Ok(id)
+    }
+
+    /// Finds and decodes an image, appending it to `textures` with the identity uv mapping.
+    pub(super) fn load_image(
+        &mut self,
+        name: &str,
+        filename: &str,
+        gamma: f32,
+        gain: f32,
+        line: usize,
+        what: &str,
+    ) -> Result<usize, SceneError> {
+        let path = self.resolve(filename, line, what)?;
+        let image = images::decode(&path, gamma, gain).map_err(|e| {
+            self.error(
+                line,
+                format!("{what}: cannot decode {}: {e}", path.display()),
+            )
+        })?;
+        self.textures.push(ImageTexture {
+            name: name.to_string(),
+            path,
+            width: image.width,
+            height: image.height,
+            texels: Arc::new(image.texels),
+            scale: Vec2::ONE,
+            delta: Vec2::ZERO,
+        });
+        Ok(self.textures.len() - 1)
+    }
+}

@@ -1,0 +1,23 @@
+//! The LuxRender scene format (`.lxs`, with `.lxm`/`.lxo` includes), as LuxBlend writes it and
+//! as the course's scenes extend it.
+
+mod camera;
+mod images;
+mod lights;
+mod materials;
+mod params;
+mod parser;
+mod paths;
+mod ply;
+mod shapes;
+mod tokenizer;
+
+use std::path::Path;
+
+use crate::scene::desc::{SceneDesc, SceneError};
+
+/// Loads the scene at `path` and the files it includes. Anything skipped or read loosely is in
+/// `SceneDesc::warnings`; anything that would make the image wrong is an error.
+pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
+    parser::parse(path)
+}

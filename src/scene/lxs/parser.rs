@@ -1,0 +1,557 @@
+//! The directive interpreter: graphics state, transforms, blocks and includes. What each
+//! directive produces is built in `camera.rs`, `materials.rs`, `shapes.rs` and `lights.rs`.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec2, Vec3};
+
+use super::params::ParamList;
+use super::paths::{Resolved, resolve};
+use super::tokenizer::{Token, TokenKind, tokenize};
+use crate::scene::desc::{
+    AreaLightDesc, CameraDesc, ColorParam, FilmDesc, FilterDesc, FilterKind, ImageTexture,
+    LightDesc, Location, MaterialDesc, MaterialId, Projection, SceneDesc, SceneError, SceneWarning,
+    ShapeDesc, ToneMap,
+};
+
+/// What `AttributeBegin`/`AttributeEnd` save and restore.
+#[derive(Clone, Debug)]
+pub(super) struct GraphicsState {
+    /// The current transformation matrix: object (or light) space to world.
+    pub ctm: Mat4,
+    pub material: Option<MaterialId>,
+    pub area_light: Option<AreaLightDesc>,
+    pub reverse_orientation: bool,
+}
+
+impl Default for GraphicsState {
+    fn default() -> Self {
+        Self {
+            ctm: Mat4::IDENTITY,
+            material: None,
+            area_light: None,
+            reverse_orientation: false,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Block {
+    Attribute,
+    Transform,
+}
+
+impl Block {
+    fn begin(self) -> &'static str {
+        match self {
+            Block::Attribute => "AttributeBegin",
+            Block::Transform => "TransformBegin",
+        }
+    }
+}
+
+/// Directives LuxBlend writes that say nothing foton uses.
+const IGNORED_DIRECTIVES: &[&str] = &["Renderer", "Accelerator", "VolumeIntegrator", "LightGroup"];
+
+pub(super) struct Parser {
+    pub state: GraphicsState,
+    stack: Vec<(Block, GraphicsState, Location)>,
+    /// Where `WorldBegin` was, and whether `WorldEnd` has been read.
+    world: Option<Location>,
+    world_ended: bool,
+    /// The file being read and its folder (paths in it resolve against that folder).
+    pub file: PathBuf,
+    pub dir: PathBuf,
+    /// Absolute paths of the files being read, outermost first (to catch Include cycles).
+    include_chain: Vec<PathBuf>,
+    pub named_materials: HashMap<String, MaterialId>,
+    pub named_textures: HashMap<String, ColorParam>,
+    pub camera: CameraDesc,
+    pub film: FilmDesc,
+    pub pixel_samples: Option<u32>,
+    pub max_depth: Option<u32>,
+    pub filter: FilterDesc,
+    pub textures: Vec<ImageTexture>,
+    pub materials: Vec<MaterialDesc>,
+    pub shapes: Vec<ShapeDesc>,
+    pub lights: Vec<LightDesc>,
+    pub warnings: Vec<SceneWarning>,
+}
+
+impl Parser {
+    fn new(path: &Path) -> Self {
+        Self {
+            state: GraphicsState::default(),
+            stack: Vec::new(),
+            world: None,
+            world_ended: false,
+            file: path.to_path_buf(),
+            dir: PathBuf::new(),
+            include_chain: Vec::new(),
+            named_materials: HashMap::new(),
+            named_textures: HashMap::new(),
+            camera: CameraDesc {
+                projection: Projection::Perspective { fov_degrees: 90.0 },
+                camera_to_world: Mat4::IDENTITY,
+                screen_window: None,
+                lens_radius: 0.0,
+                focal_distance: 1e6,
+                location: Location {
+                    file: path.to_path_buf(),
+                    line: 0,
+                },
+            },
+            film: FilmDesc {
+                x_resolution: 640,
+                y_resolution: 480,
+                gamma: 2.2,
+                filename: None,
+                tonemap: ToneMap::AutoLinear,
+            },
+            pixel_samples: None,
+            max_depth: None,
+            filter: FilterDesc {
+                kind: FilterKind::Box,
+                radius: Vec2::splat(0.5),
+            },
+            textures: Vec::new(),
+            materials: Vec::new(),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    pub fn location(&self, line: usize) -> Location {
+        Location {
+            file: self.file.clone(),
+            line,
+        }
+    }
+
+    pub fn error(&self, line: usize, message: impl Into<String>) -> SceneError {
+        SceneError {
+            location: self.location(line),
+            message: message.into(),
+        }
+    }
+
+    pub fn warn(&mut self, line: usize, message: impl Into<String>) {
+        let warning = SceneWarning {
+            location: self.location(line),
+            message: message.into(),
+        };
+        self.warnings.push(warning);
+    }
+
+    /// Finds a file named in the current file (see `paths::resolve`), warning when it was found
+    /// in a parent folder. `what` is the naming text, e.g. `Include "x.lxo"`.
+    pub fn resolve(&mut self, name: &str, line: usize, what: &str) -> Result<PathBuf, SceneError> {
+        match resolve(name, &self.dir) {
+            Ok(Resolved {
+                path,
+                found_in_parent,
+            }) => {
+                if found_in_parent {
+                    self.warn(line, format!("{what}: found as {}", path.display()));
+                }
+                Ok(path)
+            }
+            Err(message) => Err(self.error(line, format!("{what}: {message}"))),
+        }
+    }
+
+    fn read_file(&mut self, path: &Path) -> Result<(), SceneError> {
+        let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            location: Location {
+                file: path.to_path_buf(),
+                line: 0,
+            },
+            message: format!("cannot read: {e}"),
+        })?;
+        let outer_file = std::mem::replace(&mut self.file, path.to_path_buf());
+        let outer_dir = std::mem::replace(
+            &mut self.dir,
+            path.parent().map(Path::to_path_buf).unwrap_or_default(),
+        );
+        self.include_chain.push(absolute);
+        let result = self.interpret(&text);
+        self.include_chain.pop();
+        self.file = outer_file;
+        self.dir = outer_dir;
+        result
+    }
+
+    fn interpret(&mut self, text: &str) -> Result<(), SceneError> {
+        let tokens = tokenize(&self.file, text)?;
+        let mut rest = &tokens[..];
+        while let Some((first, after)) = rest.split_first() {
+            let TokenKind::Identifier(name) = &first.kind else {
+                return Err(self.error(
+                    first.line,
+                    format!("expected a directive, found {}", first.text()),
+                ));
+            };
+            // A directive's arguments run up to the next bare word outside brackets.
+            let mut depth = 0usize;
+            let end = after
+                .iter()
+                .position(|t| match t.kind {
+                    TokenKind::OpenBracket => {
+                        depth += 1;
+                        false
+                    }
+                    TokenKind::CloseBracket => {
+                        depth = depth.saturating_sub(1);
+                        false
+                    }
+                    TokenKind::Identifier(_) => depth == 0,
+                    _ => false,
+                })
+                .unwrap_or(after.len());
+            self.directive(name, first.line, &after[..end])?;
+            rest = &after[end..];
+        }
+        Ok(())
+    }
+
+    fn directive(&mut self, name: &str, line: usize, args: &[Token]) -> Result<(), SceneError> {
+        match name {
+            "LookAt" => {
+                let v = self.numbers(name, line, args, 9)?;
+                let look_at = self.look_at(line, &v)?;
+                self.state.ctm *= look_at;
+            }
+            "Transform" => {
+                let v = self.numbers(name, line, args, 16)?;
+                self.state.ctm = Mat4::from_cols_slice(&v);
+            }
+            "ConcatTransform" => {
+                let v = self.numbers(name, line, args, 16)?;
+                self.state.ctm *= Mat4::from_cols_slice(&v);
+            }
+            "Translate" => {
+                let v = self.numbers(name, line, args, 3)?;
+                self.state.ctm *= Mat4::from_translation(Vec3::from_slice(&v));
+            }
+            "Scale" => {
+                let v = self.numbers(name, line, args, 3)?;
+                self.state.ctm *= Mat4::from_scale(Vec3::from_slice(&v));
+            }
+            "Rotate" => {
+                let v = self.numbers(name, line, args, 4)?;
+                let axis = Vec3::from_slice(&v[1..])
+                    .try_normalize()
+                    .ok_or_else(|| self.error(line, "Rotate: the axis is zero"))?;
+                self.state.ctm *= Mat4::from_axis_angle(axis, v[0].to_radians());
+            }
+            "Identity" => {
+                self.numbers(name, line, args, 0)?;
+                self.state.ctm = Mat4::IDENTITY;
+            }
+            "ReverseOrientation" => {
+                self.numbers(name, line, args, 0)?;
+                self.state.reverse_orientation = !self.state.reverse_orientation;
+            }
+            "AttributeBegin" | "TransformBegin" => {
+                self.numbers(name, line, args, 0)?;
+                let block = if name == "AttributeBegin" {
+                    Block::Attribute
+                } else {
+                    Block::Transform
+                };
+                self.stack
+                    .push((block, self.state.clone(), self.location(line)));
+            }
+            "AttributeEnd" | "TransformEnd" => {
+                self.numbers(name, line, args, 0)?;
+                let block = if name == "AttributeEnd" {
+                    Block::Attribute
+                } else {
+                    Block::Transform
+                };
+                self.end_block(block, name, line)?;
+            }
+            "WorldBegin" => {
+                self.numbers(name, line, args, 0)?;
+                if let Some(first) = &self.world {
+                    return Err(self.error(line, format!("WorldBegin again (first at {first})")));
+                }
+                self.world = Some(self.location(line));
+                self.state.ctm = Mat4::IDENTITY;
+            }
+            "WorldEnd" => {
+                self.numbers(name, line, args, 0)?;
+                if self.world.is_none() || self.world_ended {
+                    return Err(self.error(line, "WorldEnd without WorldBegin"));
+                }
+                if let Some((block, _, at)) = self.stack.last() {
+                    return Err(self.error(
+                        line,
+                        format!("WorldEnd while the {} at {at} is still open", block.begin()),
+                    ));
+                }
+                self.world_ended = true;
+            }
+            "Include" => {
+                let (mut strings, params) = self.strings(name, line, args, 1)?;
+                let params = ParamList::parse(&self.file, params, &mut self.warnings)?;
+                params.warn_unused(name, &mut self.warnings);
+                let target = strings.remove(0);
+                self.include(&target, line)?;
+            }
+            _ => {
+                let Some(kind) = self.known_with_params(name) else {
+                    self.warn(line, format!("unknown directive {name} ignored"));
+                    return Ok(());
+                };
+                let (strings, params) = self.strings(name, line, args, kind)?;
+                let mut params = ParamList::parse(&self.file, params, &mut self.warnings)?;
+                let context = format!("{name} \"{}\"", strings.first().map_or("", String::as_str));
+                self.with_params(name, line, &strings, &mut params)?;
+                params.warn_unused(&context, &mut self.warnings);
+            }
+        }
+        Ok(())
+    }
+
+    /// The number of leading quoted strings a directive with a parameter list takes.
+    fn known_with_params(&self, name: &str) -> Option<usize> {
+        match name {
+            "Camera" | "Film" | "Sampler" | "SurfaceIntegrator" | "PixelFilter" | "Material"
+            | "MakeNamedMaterial" | "NamedMaterial" | "Shape" | "LightSource"
+            | "AreaLightSource" | "Texture" => Some(1),
+            name if IGNORED_DIRECTIVES.contains(&name) => Some(1),
+            _ => None,
+        }
+    }
+
+    fn with_params(
+        &mut self,
+        name: &str,
+        line: usize,
+        strings: &[String],
+        params: &mut ParamList,
+    ) -> Result<(), SceneError> {
+        let first = strings.first().map_or("", String::as_str);
+        match name {
+            "Camera" => self.camera(first, line, params)?,
+            "Film" => self.film_directive(line, params)?,
+            "Sampler" => {
+                self.pixel_samples = self.positive_int(params, "pixelsamples", line)?;
+            }
+            "SurfaceIntegrator" => {
+                let depth = match self.count(params, "maxdepth", line)? {
+                    Some(depth) => Some(depth),
+                    None => self.count(params, "eyedepth", line)?,
+                };
+                self.max_depth = depth.or(self.max_depth);
+            }
+            "PixelFilter" => self.pixel_filter(first, line, params)?,
+            "Material" => {
+                let material = self.material(first, line, params)?;
+                self.materials.push(material);
+                self.state.material = Some(self.materials.len() - 1);
+            }
+            "MakeNamedMaterial" => {
+                let kind = params.string("type")?.unwrap_or_default();
+                let material = self.material(&kind, line, params)?;
+                self.materials.push(material);
+                let id = self.materials.len() - 1;
+                if self.named_materials.insert(first.to_string(), id).is_some() {
+                    self.warn(line, format!("MakeNamedMaterial \"{first}\" redefined"));
+                }
+            }
+            "NamedMaterial" => {
+                let id = *self.named_materials.get(first).ok_or_else(|| {
+                    self.error(line, format!("NamedMaterial \"{first}\": no such material"))
+                })?;
+                self.state.material = Some(id);
+            }
+            "Texture" => self.texture(strings, line, params)?,
+            "Shape" => self.shape(first, line, params)?,
+            "LightSource" => self.light(first, line, params)?,
+            "AreaLightSource" => self.area_light(first, line, params)?,
+            // Renderer, Accelerator, …: nothing foton uses; their parameters are not reported.
+            _ => params.ignore_all(),
+        }
+        Ok(())
+    }
+
+    fn include(&mut self, target: &str, line: usize) -> Result<(), SceneError> {
+        let what = format!("Include \"{target}\"");
+        let path = self.resolve(target, line, &what)?;
+        let absolute = std::path::absolute(&path).unwrap_or_else(|_| path.clone());
+        if self.include_chain.contains(&absolute) {
+            return Err(self.error(line, format!("{what}: includes itself")));
+        }
+        self.read_file(&path).map_err(|error| {
+            if error.location.line == 0 {
+                self.error(line, format!("{what}: {}", error.message))
+            } else {
+                error
+            }
+        })
+    }
+
+    fn end_block(&mut self, block: Block, name: &str, line: usize) -> Result<(), SceneError> {
+        match self.stack.pop() {
+            Some((open, saved, _)) if open == block => {
+                match block {
+                    Block::Attribute => self.state = saved,
+                    Block::Transform => self.state.ctm = saved.ctm,
+                }
+                Ok(())
+            }
+            Some((open, _, at)) => Err(self.error(
+                line,
+                format!("{name} does not match the {} at {at}", open.begin()),
+            )),
+            None => Err(self.error(line, format!("{name} without {}", block.begin()))),
+        }
+    }
+
+    /// The numbers after a directive, bare or in brackets: exactly `count` of them.
+    fn numbers(
+        &self,
+        name: &str,
+        line: usize,
+        args: &[Token],
+        count: usize,
+    ) -> Result<Vec<f32>, SceneError> {
+        let mut numbers = Vec::new();
+        for token in args {
+            match token.kind {
+                TokenKind::Number(value) => numbers.push(value as f32),
+                TokenKind::OpenBracket | TokenKind::CloseBracket if count > 0 => {}
+                _ => {
+                    return Err(
+                        self.error(token.line, format!("{name}: unexpected {}", token.text()))
+                    );
+                }
+            }
+        }
+        if numbers.len() != count {
+            return Err(self.error(
+                line,
+                format!("{name}: {} values, expected {count}", numbers.len()),
+            ));
+        }
+        Ok(numbers)
+    }
+
+    /// The leading quoted strings of a directive (`count` of them; `Texture` may take two more:
+    /// its type and class) and the parameter-list tokens after them.
+    fn strings<'t>(
+        &self,
+        name: &str,
+        line: usize,
+        args: &'t [Token],
+        count: usize,
+    ) -> Result<(Vec<String>, &'t [Token]), SceneError> {
+        let limit = if name == "Texture" { 3 } else { count };
+        let mut strings = Vec::new();
+        for token in args.iter().take(limit) {
+            match &token.kind {
+                TokenKind::Quoted(text) if strings.len() < count || !text.contains(' ') => {
+                    strings.push(text.clone());
+                }
+                _ => break,
+            }
+        }
+        if strings.len() < count {
+            return Err(self.error(line, format!("{name}: expected a quoted name or type")));
+        }
+        let used = strings.len();
+        Ok((strings, &args[used..]))
+    }
+
+    /// The world-to-camera matrix of `LookAt eye look up`, right-handed: camera x is
+    /// normalize(dir x up), y = x' x dir, z = dir.
+    fn look_at(&self, line: usize, v: &[f32]) -> Result<Mat4, SceneError> {
+        let eye = Vec3::from_slice(&v[0..3]);
+        let look = Vec3::from_slice(&v[3..6]);
+        let up = Vec3::from_slice(&v[6..9]);
+        let degenerate = || self.error(line, "LookAt: eye, look and up do not define a view");
+        let dir = (look - eye).try_normalize().ok_or_else(degenerate)?;
+        let right = dir.cross(up).try_normalize().ok_or_else(degenerate)?;
+        let camera_up = right.cross(dir);
+        let camera_to_world = Mat4::from_cols(
+            right.extend(0.0),
+            camera_up.extend(0.0),
+            dir.extend(0.0),
+            eye.extend(1.0),
+        );
+        Ok(camera_to_world.inverse())
+    }
+
+    /// An integer parameter that must be > 0.
+    pub fn positive_int(
+        &self,
+        params: &mut ParamList,
+        name: &str,
+        line: usize,
+    ) -> Result<Option<u32>, SceneError> {
+        match params.int(name)? {
+            Some(value) if value > 0 => u32::try_from(value)
+                .map(Some)
+                .map_err(|_| self.error(line, format!("\"{name}\" {value} is too large"))),
+            Some(value) => Err(self.error(line, format!("\"{name}\" {value} must be positive"))),
+            None => Ok(None),
+        }
+    }
+
+    /// An integer parameter that must be >= 0.
+    fn count(
+        &self,
+        params: &mut ParamList,
+        name: &str,
+        line: usize,
+    ) -> Result<Option<u32>, SceneError> {
+        match params.int(name)? {
+            Some(value) => u32::try_from(value)
+                .map(Some)
+                .map_err(|_| self.error(line, format!("\"{name}\" {value} is out of range"))),
+            None => Ok(None),
+        }
+    }
+
+    /// Checks that nothing was left open at the end of the scene, and hands over the result.
+    fn finish(self) -> Result<SceneDesc, SceneError> {
+        if let Some((block, _, at)) = self.stack.last() {
+            return Err(SceneError {
+                location: at.clone(),
+                message: format!("{} is never closed", block.begin()),
+            });
+        }
+        if let Some(at) = &self.world
+            && !self.world_ended
+        {
+            return Err(SceneError {
+                location: at.clone(),
+                message: "WorldBegin is never closed by WorldEnd".into(),
+            });
+        }
+        Ok(SceneDesc {
+            camera: self.camera,
+            film: self.film,
+            pixel_samples: self.pixel_samples,
+            max_depth: self.max_depth,
+            filter: self.filter,
+            textures: self.textures,
+            materials: self.materials,
+            shapes: self.shapes,
+            lights: self.lights,
+            warnings: self.warnings,
+        })
+    }
+}
+
+/// Reads the scene file at `path` and the files it includes.
+pub(super) fn parse(path: &Path) -> Result<SceneDesc, SceneError> {
+    let mut parser = Parser::new(path);
+    parser.read_file(path)?;
+    parser.finish()
+}

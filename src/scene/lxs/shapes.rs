@@ -1,0 +1,200 @@
+//! `Shape`: spheres, triangle meshes (inline or PLY), and the course's planes and boxes.
+
+use glam::{Vec2, Vec3};
+
+use super::params::ParamList;
+use super::parser::Parser;
+use super::ply;
+use crate::scene::desc::{Geometry, SceneError, ShapeDesc};
+
+impl Parser {
+    /// Adds a shape with the current transform, material and area light.
+    pub(super) fn shape(
+        &mut self,
+        kind: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<(), SceneError> {
+        let geometry = match kind {
+            "sphere" => {
+                let radius = params.float("radius")?.unwrap_or(1.0);
+                if radius <= 0.0 {
+                    return Err(
+                        self.error(line, format!("sphere: radius {radius} must be positive"))
+                    );
+                }
+                Geometry::Sphere { radius }
+            }
+            "trianglemesh" | "mesh" => match self.inline_mesh(kind, line, params)? {
+                Some(mesh) => mesh,
+                None => return Ok(()),
+            },
+            "plymesh" => {
+                let filename = params
+                    .string("filename")?
+                    .ok_or_else(|| self.error(line, "plymesh: \"filename\" missing"))?;
+                let what = format!("plymesh \"{filename}\"");
+                let path = self.resolve(&filename, line, &what)?;
+                ply::read(&path)
+                    .map_err(|e| self.error(line, format!("{what}: {}: {e}", path.display())))?
+            }
+            "plane" => {
+                let normal = params.vec3("N")?.unwrap_or(Vec3::Z);
+                let normal = normal
+                    .try_normalize()
+                    .ok_or_else(|| self.error(line, "plane: the normal is zero"))?;
+                Geometry::Plane { normal }
+            }
+            "box" => {
+                let size = Vec3::new(
+                    params.float("width")?.unwrap_or(1.0),
+                    params.float("height")?.unwrap_or(1.0),
+                    params.float("depth")?.unwrap_or(1.0),
+                );
+                if size.min_element() <= 0.0 {
+                    return Err(self.error(line, format!("box: size {size} must be positive")));
+                }
+                box_mesh(size)
+            }
+            _ => {
+                self.warn(line, format!("Shape \"{kind}\" unsupported: skipped"));
+                params.ignore_all();
+                return Ok(());
+            }
+        };
+        let geometry = if self.state.reverse_orientation {
+            self.reversed(geometry, line)
+        } else {
+            geometry
+        };
+        self.shapes.push(ShapeDesc {
+            geometry,
+            object_to_world: self.state.ctm,
+            material: self.state.material,
+            area_light: self.state.area_light,
+            location: self.location(line),
+        });
+        Ok(())
+    }
+
+    /// `trianglemesh`/`mesh`: `indices` (or `triindices`), `P`, optional `N` and `uv` (or `st`).
+    /// A mesh without `P` or indices (LuxBlend writes such) is skipped with a warning.
+    fn inline_mesh(
+        &mut self,
+        kind: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<Option<Geometry>, SceneError> {
+        let indices = match params.indices("indices")? {
+            Some(indices) => Some(indices),
+            None => params.indices("triindices")?,
+        };
+        let positions = params.floats("P", 3)?;
+        let normals = params.floats("N", 3)?;
+        let uvs = match params.floats("uv", 2)? {
+            Some(uvs) => Some(uvs),
+            None => params.floats("st", 2)?,
+        };
+        let (Some(indices), Some(positions)) = (indices, positions) else {
+            self.warn(
+                line,
+                format!("{kind} without \"P\" or \"indices\": skipped"),
+            );
+            return Ok(None);
+        };
+        let positions: Vec<Vec3> = positions.chunks_exact(3).map(Vec3::from_slice).collect();
+        let count = positions.len();
+        if indices.len() % 3 != 0 {
+            return Err(self.error(
+                line,
+                format!("{kind}: {} indices, not a multiple of 3", indices.len()),
+            ));
+        }
+        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= count) {
+            return Err(self.error(
+                line,
+                format!("{kind}: index {bad} out of range ({count} vertices)"),
+            ));
+        }
+        let normals: Option<Vec<Vec3>> =
+            normals.map(|n| n.chunks_exact(3).map(Vec3::from_slice).collect());
+        let uvs: Option<Vec<Vec2>> =
+            uvs.map(|uv| uv.chunks_exact(2).map(Vec2::from_slice).collect());
+        if let Some(n) = normals.as_ref().filter(|n| n.len() != count) {
+            return Err(self.error(
+                line,
+                format!("{kind}: {} normals for {count} vertices", n.len()),
+            ));
+        }
+        if let Some(uv) = uvs.as_ref().filter(|uv| uv.len() != count) {
+            return Err(self.error(
+                line,
+                format!("{kind}: {} uvs for {count} vertices", uv.len()),
+            ));
+        }
+        Ok(Some(Geometry::TriangleMesh {
+            positions,
+            normals,
+            uvs,
+            indices: indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect(),
+        }))
+    }
+
+    /// `ReverseOrientation`: flips which side faces out.
+    fn reversed(&mut self, geometry: Geometry, line: usize) -> Geometry {
+        match geometry {
+            Geometry::TriangleMesh {
+                positions,
+                normals,
+                uvs,
+                indices,
+            } => Geometry::TriangleMesh {
+                positions,
+                normals: normals.map(|n| n.into_iter().map(|n| -n).collect()),
+                uvs,
+                indices: indices.into_iter().map(|[a, b, c]| [a, c, b]).collect(),
+            },
+            Geometry::Plane { normal } => Geometry::Plane { normal: -normal },
+            sphere @ Geometry::Sphere { .. } => {
+                self.warn(
+                    line,
+                    "ReverseOrientation on a sphere is not supported: ignored",
+                );
+                sphere
+            }
+        }
+    }
+}
+
+/// A closed box of `size`, centred on the origin: 12 triangles wound counter-clockwise seen
+/// from outside, so (b - a) x (c - a) points out.
+fn box_mesh(size: Vec3) -> Geometry {
+    // Corner i has x, y, z = bits 0, 1, 2 of i (0: -half, 1: +half).
+    let positions = (0..8u32)
+        .map(|i| {
+            let sign = Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32);
+            (sign * 2.0 - 1.0) * size * 0.5
+        })
+        .collect();
+    let quads: [[u32; 4]; 6] = [
+        [0, 4, 6, 2], // -x
+        [1, 3, 7, 5], // +x
+        [0, 1, 5, 4], // -y
+        [2, 6, 7, 3], // +y
+        [0, 2, 3, 1], // -z
+        [4, 5, 7, 6], // +z
+    ];
+    let indices = quads
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    Geometry::TriangleMesh {
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+    }
+}

@@ -1,0 +1,36 @@
+//! What the user asked of this render: the scene file's settings with the command line's on top.
+
+use std::time::Duration;
+
+use bevy_ecs::prelude::Resource;
+
+use crate::sampling::SamplerKind;
+
+/// The two integrators; each is a choice of shading stage over the same batches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// Unbiased path tracing with next-event estimation and MIS.
+    PathTracer,
+    /// Whitted-style ray casting: direct light, Lambert + Phong, mirror and refraction.
+    RayCaster,
+}
+
+#[derive(Resource, Clone, Debug)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub samples_per_pixel: u32,
+    /// Path vertices after the camera's: 1 is direct light only.
+    pub max_depth: u32,
+    pub seed: u64,
+    pub sampler: SamplerKind,
+    pub integrator: IntegratorKind,
+    /// Stop after the pass that crosses this wall-clock time.
+    pub time_limit: Option<Duration>,
+}
+
+impl RenderSettings {
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}

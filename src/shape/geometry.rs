@@ -1,0 +1,186 @@
+//! The flattened scene: every primitive of every shape entity, the BVH over them, and what the
+//! shade stage needs per primitive. Only what the scene has is stored: no uv arrays without
+//! textures, no shading normals where no mesh has any.
+
+use std::sync::Arc;
+
+use bevy_ecs::prelude::*;
+use glam::{Affine3A, Vec2, Vec3};
+
+use super::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
+use crate::accel::{Accel, PlaneInstance, Primitives, SphereInstance};
+
+/// No emitter on this primitive.
+pub const NO_EMITTER: u32 = u32::MAX;
+
+/// One emissive shape, for the light table: its primitives and radiance.
+#[derive(Clone, Debug)]
+pub struct EmissiveShape {
+    pub primitives: Vec<u32>,
+    pub radiance: Vec3,
+}
+
+#[derive(Resource)]
+pub struct SceneGeometry {
+    pub accel: Arc<Accel>,
+    /// World-space vertices of triangle `i` (primitive id `i`).
+    pub triangles: Vec<[Vec3; 3]>,
+    /// Per-triangle vertex normals; empty when no mesh has normals.
+    pub triangle_normals: Vec<[Vec3; 3]>,
+    /// Per-triangle vertex uvs; empty unless the scene samples textures.
+    pub triangle_uvs: Vec<[Vec2; 3]>,
+    /// Sphere `i` is primitive `triangles.len() + i`.
+    pub spheres: Vec<SphereShape>,
+    pub planes: Vec<Plane>,
+    /// Material index of each primitive.
+    pub material: Vec<u32>,
+    /// Emitter (index into `emissive_shapes`) of each primitive, or [`NO_EMITTER`].
+    pub emitter: Vec<u32>,
+    pub emissive_shapes: Vec<EmissiveShape>,
+    /// Centre and radius of a sphere bounding the scene (for distant and infinite lights).
+    pub bounds_centre: Vec3,
+    pub bounds_radius: f32,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct SphereShape {
+    pub object_to_world: Affine3A,
+    pub world_to_object: Affine3A,
+    pub radius: f32,
+}
+
+/// What the world builder asks of the flattening.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct GeometryNeeds {
+    pub uvs: bool,
+}
+
+type ShapeQuery<'a, T> = (&'a T, &'a SurfaceMaterial, Option<&'a AreaEmitter>);
+
+/// Startup system: gathers the shape entities into [`SceneGeometry`] and builds the BVH.
+pub fn build_scene_geometry(
+    meshes: Query<ShapeQuery<TriangleMesh>>,
+    spheres: Query<ShapeQuery<Sphere>>,
+    planes: Query<ShapeQuery<Plane>>,
+    needs: Res<GeometryNeeds>,
+    mut commands: Commands,
+) {
+    let any_normals = meshes.iter().any(|(mesh, _, _)| mesh.normals.is_some());
+    let mut triangles = Vec::new();
+    let mut triangle_normals = Vec::new();
+    let mut triangle_uvs = Vec::new();
+    let mut material = Vec::new();
+    let mut emitter = Vec::new();
+    let mut emissive_shapes: Vec<EmissiveShape> = Vec::new();
+
+    let mut next_emitter = |first: usize, count: usize, light: Option<&AreaEmitter>| {
+        light.map_or(NO_EMITTER, |light| {
+            emissive_shapes.push(EmissiveShape {
+                primitives: (first as u32..(first + count) as u32).collect(),
+                radiance: light.radiance,
+            });
+            (emissive_shapes.len() - 1) as u32
+        })
+    };
+
+    for (mesh, surface, light) in &meshes {
+        let id = next_emitter(triangles.len(), mesh.indices.len(), light);
+        for tri in &mesh.indices {
+            let [a, b, c] = tri.map(|i| i as usize);
+            triangles.push([mesh.positions[a], mesh.positions[b], mesh.positions[c]]);
+            if any_normals {
+                let face = (mesh.positions[b] - mesh.positions[a])
+                    .cross(mesh.positions[c] - mesh.positions[a])
+                    .normalize_or_zero();
+                triangle_normals.push(match &mesh.normals {
+                    Some(n) => [n[a], n[b], n[c]].map(|n| n.normalize_or(face)),
+                    None => [face; 3],
+                });
+            }
+            if needs.uvs {
+                triangle_uvs.push(match &mesh.uvs {
+                    Some(uv) => [uv[a], uv[b], uv[c]],
+                    None => [Vec2::ZERO, Vec2::X, Vec2::ONE],
+                });
+            }
+            material.push(surface.0);
+            emitter.push(id);
+        }
+    }
+    let mut sphere_shapes = Vec::new();
+    for (sphere, surface, light) in &spheres {
+        emitter.push(next_emitter(
+            triangles.len() + sphere_shapes.len(),
+            1,
+            light,
+        ));
+        material.push(surface.0);
+        sphere_shapes.push(SphereShape {
+            object_to_world: sphere.object_to_world,
+            world_to_object: sphere.object_to_world.inverse(),
+            radius: sphere.radius,
+        });
+    }
+    let mut plane_shapes = Vec::new();
+    for (plane, surface, _) in &planes {
+        // An infinite plane cannot be sampled as a light; the builder warned of it.
+        emitter.push(NO_EMITTER);
+        material.push(surface.0);
+        plane_shapes.push(*plane);
+    }
+
+    let primitives = Primitives {
+        triangles: triangles.clone(),
+        spheres: sphere_shapes
+            .iter()
+            .map(|s| SphereInstance {
+                object_to_world: s.object_to_world,
+                radius: s.radius,
+            })
+            .collect(),
+        planes: plane_shapes
+            .iter()
+            .map(|p| PlaneInstance {
+                point: p.point,
+                normal: p.normal,
+            })
+            .collect(),
+    };
+    let (bounds_centre, bounds_radius) = bounding_sphere(&triangles, &sphere_shapes);
+    commands.insert_resource(SceneGeometry {
+        accel: Arc::new(Accel::build(&primitives)),
+        triangles,
+        triangle_normals,
+        triangle_uvs,
+        spheres: sphere_shapes,
+        planes: plane_shapes,
+        material,
+        emitter,
+        emissive_shapes,
+        bounds_centre,
+        bounds_radius,
+    });
+}
+
+/// A sphere around every bounded primitive (planes are unbounded and left out).
+fn bounding_sphere(triangles: &[[Vec3; 3]], spheres: &[SphereShape]) -> (Vec3, f32) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for p in triangles.iter().flatten() {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    for s in spheres {
+        let centre = Vec3::from(s.object_to_world.translation);
+        let m = s.object_to_world.matrix3;
+        let reach =
+            Vec3::splat(s.radius * (m.x_axis.length() + m.y_axis.length() + m.z_axis.length()));
+        lo = lo.min(centre - reach);
+        hi = hi.max(centre + reach);
+    }
+    if lo.cmpgt(hi).any() {
+        return (Vec3::ZERO, 1.0);
+    }
+    let centre = (lo + hi) * 0.5;
+    (centre, ((hi - lo) * 0.5).length().max(1e-3))
+}

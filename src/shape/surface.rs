@@ -1,0 +1,86 @@
+//! The surface point behind a hit: position, normals and texture coordinates.
+
+use std::f32::consts::PI;
+
+use glam::{Vec2, Vec3};
+
+use super::geometry::SceneGeometry;
+use crate::accel::Hit;
+
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    pub position: Vec3,
+    /// The true surface normal, oriented as the shape is (outward for spheres, by winding for
+    /// triangles): emitters emit on its side.
+    pub geometric_normal: Vec3,
+    /// The interpolated normal for shading, on the same side as `geometric_normal`.
+    pub shading_normal: Vec3,
+    pub uv: Vec2,
+    pub material: u32,
+    pub emitter: u32,
+}
+
+impl SceneGeometry {
+    pub fn surface_point(&self, hit: &Hit, origin: Vec3, direction: Vec3) -> SurfacePoint {
+        let prim = hit.prim as usize;
+        let triangle_count = self.triangles.len();
+        let sphere_end = triangle_count + self.spheres.len();
+        let position = origin + direction * hit.t;
+        let (geometric_normal, shading_normal, uv) = if prim < triangle_count {
+            self.triangle_surface(prim, hit.u, hit.v)
+        } else if prim < sphere_end {
+            self.sphere_surface(prim - triangle_count, position)
+        } else {
+            let plane = &self.planes[prim - sphere_end];
+            let n = plane.normal;
+            let (t, b) = n.any_orthonormal_pair();
+            let local = position - plane.point;
+            (n, n, Vec2::new(local.dot(t), local.dot(b)))
+        };
+        SurfacePoint {
+            position,
+            geometric_normal,
+            shading_normal,
+            uv,
+            material: self.material[prim],
+            emitter: self.emitter[prim],
+        }
+    }
+
+    fn triangle_surface(&self, i: usize, u: f32, v: f32) -> (Vec3, Vec3, Vec2) {
+        let [p0, p1, p2] = self.triangles[i];
+        let ng = (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z);
+        let w = 1.0 - u - v;
+        let ns = match self.triangle_normals.get(i) {
+            Some([n0, n1, n2]) => {
+                let n = (*n0 * w + *n1 * u + *n2 * v).normalize_or(ng);
+                // Keep the shading normal on the geometric side (pbrt-v4 §6.5.3 does the reverse:
+                // here the geometric one defines emission and inside/outside).
+                if n.dot(ng) < 0.0 { -n } else { n }
+            }
+            None => ng,
+        };
+        let uv = match self.triangle_uvs.get(i) {
+            Some([t0, t1, t2]) => *t0 * w + *t1 * u + *t2 * v,
+            None => Vec2::new(u, v),
+        };
+        (ng, ns, uv)
+    }
+
+    fn sphere_surface(&self, i: usize, position: Vec3) -> (Vec3, Vec3, Vec2) {
+        let sphere = &self.spheres[i];
+        let local = sphere.world_to_object.transform_point3(position);
+        // Normals transform by the inverse transpose.
+        let n = sphere
+            .world_to_object
+            .matrix3
+            .transpose()
+            .mul_vec3(local)
+            .normalize_or(Vec3::Z);
+        let dir = local.normalize_or(Vec3::Z);
+        let phi = dir.y.atan2(dir.x);
+        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
+        let uv = Vec2::new(phi / (2.0 * PI), dir.z.clamp(-1.0, 1.0).acos() / PI);
+        (n, n, uv)
+    }
+}

@@ -1,0 +1,557 @@
+//! Tests of the BSDFs: energy (white furnace), sampling consistency,
+//! reciprocity, the GGX normalisation, and robustness.
+
+use foton::bsdf::frame::Frame;
+use foton::bsdf::fresnel::{fr_dielectric, schlick};
+use foton::bsdf::microfacet::TrowbridgeReitz;
+use foton::bsdf::{Bsdf, roughness_to_alpha};
+use glam::{Vec2, Vec3};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rand_xoshiro::rand_core::{Rng, SeedableRng};
+use std::f32::consts::PI;
+
+const N: usize = 100_000;
+
+fn rng(seed: u64) -> Xoshiro256PlusPlus {
+    Xoshiro256PlusPlus::seed_from_u64(seed)
+}
+
+fn uniform(r: &mut Xoshiro256PlusPlus) -> f32 {
+    (r.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+}
+
+fn uniform2(r: &mut Xoshiro256PlusPlus) -> Vec2 {
+    Vec2::new(uniform(r), uniform(r))
+}
+
+fn uniform_sphere(r: &mut Xoshiro256PlusPlus) -> Vec3 {
+    let z = 1.0 - 2.0 * uniform(r);
+    let s = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * uniform(r);
+    Vec3::new(s * phi.cos(), s * phi.sin(), z)
+}
+
+/// A unit direction at polar angle `theta` (azimuth 0.7 rad, off the axes).
+fn dir(theta: f32) -> Vec3 {
+    let phi = 0.7f32;
+    Vec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
+}
+
+/// Directional albedo: the mean of f |cos| / pdf over N importance samples
+/// (failed samples count as 0); `weight` rescales each sample's term.
+fn albedo(bsdf: &Bsdf, wo: Vec3, seed: u64, weight: impl Fn(Vec3) -> f32) -> Vec3 {
+    let mut r = rng(seed);
+    let mut sum = Vec3::ZERO;
+    for _ in 0..N {
+        let (u, uc) = (uniform2(&mut r), uniform(&mut r));
+        if let Some(s) = bsdf.sample(wo, u, uc) {
+            sum += s.f * s.wi.z.abs() / s.pdf * weight(s.wi);
+        }
+    }
+    sum / N as f32
+}
+
+fn assert_close(a: f32, b: f32, tol: f32, what: &str) {
+    assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tol {tol})");
+}
+
+fn conductor(alpha_x: f32, alpha_y: f32) -> Bsdf {
+    Bsdf::Conductor {
+        f0: Vec3::ONE,
+        alpha_x,
+        alpha_y,
+    }
+}
+
+fn glass(eta: f32) -> Bsdf {
+    Bsdf::Dielectric {
+        reflectance: Vec3::ONE,
+        transmittance: Vec3::ONE,
+        eta,
+    }
+}
+
+#[test]
+fn white_furnace_lambertian_and_specular() {
+    let lambert = Bsdf::Lambertian {
+        reflectance: Vec3::ONE,
+    };
+    let mirror = Bsdf::SpecularReflection {
+        reflectance: Vec3::ONE,
+    };
+    for theta in [0.0, 0.5, 1.2, 1.55] {
+        let a = albedo(&lambert, dir(theta), 1, |_| 1.0);
+        println!("lambertian theta {theta}: {a}");
+        assert_close(a.x, 1.0, 0.01, "lambertian albedo");
+        let a = albedo(&mirror, dir(theta), 2, |_| 1.0);
+        assert_close(a.x, 1.0, 1e-5, "mirror albedo");
+    }
+}
+
+#[test]
+fn white_furnace_dielectric() {
+    for eta in [1.5, 1.0 / 1.5, 1.33, 2.4] {
+        let bsdf = glass(eta);
+        for theta in [0.0f32, 0.4, 0.9, 1.3, 1.55] {
+            for wo in [dir(theta), -dir(theta)] {
+                // eta' = index of wi's side over index of wo's side.
+                let etap = if wo.z > 0.0 { eta } else { 1.0 / eta };
+                // Radiance transport scales refraction by 1 / eta'^2; undo it
+                // to get the energy balance R + T = 1.
+                let energy = albedo(&bsdf, wo, 3, |wi| {
+                    if wi.z * wo.z < 0.0 { etap * etap } else { 1.0 }
+                });
+                println!("glass eta {eta} cos_o {}: R + T = {energy}", wo.z);
+                assert_close(energy.x, 1.0, 0.01, "dielectric R + T");
+                // Radiance: R + T / eta'^2 exactly in expectation.
+                let rad = albedo(&bsdf, wo, 4, |_| 1.0);
+                let fr = fr_dielectric(wo.z, eta);
+                let expected = fr + (1.0 - fr) / (etap * etap);
+                assert_close(rad.x, expected, 0.01 * expected, "dielectric radiance");
+            }
+        }
+    }
+}
+
+#[test]
+fn dielectric_refraction_obeys_snell() {
+    let eta = 1.5;
+    let mut r = rng(5);
+    for _ in 0..1000 {
+        let wo = uniform_sphere(&mut r);
+        // uc just below 1 chooses refraction unless under total reflection.
+        let Some(s) = glass(eta).sample(wo, Vec2::ZERO, 0.999_999) else {
+            continue;
+        };
+        let sin_o = (1.0 - wo.z * wo.z).max(0.0).sqrt();
+        let sin_i = (1.0 - s.wi.z * s.wi.z).max(0.0).sqrt();
+        if s.wi.z * wo.z < 0.0 {
+            let (n_o, n_i) = if wo.z > 0.0 { (1.0, eta) } else { (eta, 1.0) };
+            assert_close(n_o * sin_o, n_i * sin_i, 1e-4, "Snell");
+            // Azimuth is reversed (the refracted ray continues through).
+            assert!(wo.x * s.wi.x + wo.y * s.wi.y <= 1e-6);
+        } else {
+            assert_close(fr_dielectric(wo.z, eta), 1.0, 1e-6, "TIR");
+        }
+        assert_close(s.wi.length(), 1.0, 1e-5, "unit wi");
+    }
+}
+
+/// Single-scattering GGX loses the energy of the reflections that would hit
+/// other microfacets (Heitz et al. 2016, "Multiple-Scattering Microfacet
+/// BSDFs with the Smith Model"): a little at low roughness, most of it at
+/// alpha = 1, where at normal incidence the visible normals are
+/// cosine-distributed and the half with theta_h > 45 degrees reflects below
+/// the horizon (theta_i = 2 theta_h). With F0 = 1 each sample's weight is
+/// G / G1(wo) <= 1, so the albedo never exceeds 1. The references at normal
+/// incidence come from an independent 1D quadrature of
+/// the integral of D(h) cos(theta_h) G / G1 over h:
+/// 0.9883 (alpha 0.1), 0.8774 (0.3), 0.6878 (0.5), 0.3069 (1).
+#[test]
+fn white_furnace_conductor() {
+    // (alpha, theta_o, the documented range of the albedo).
+    let cases = [
+        (0.001, 0.0, 0.999..=1.0),
+        (0.1, 0.0, 0.983..=0.993),
+        (0.1, 1.2, 0.94..=0.96),
+        (0.3, 0.0, 0.872..=0.882),
+        (0.5, 0.0, 0.68..=0.70),
+        (0.5, 1.2, 0.70..=0.75),
+        (1.0, 0.0, 0.30..=0.32),
+        (1.0, 1.4, 0.65..=0.70),
+    ];
+    for (alpha, theta, range) in cases {
+        let a = albedo(&conductor(alpha, alpha), dir(theta), 6, |_| 1.0).x;
+        println!("conductor alpha {alpha} theta {theta}: {a}");
+        assert!(
+            a <= 1.0 + 1e-5 && range.contains(&a),
+            "alpha {alpha} theta {theta}: {a}"
+        );
+    }
+    let a = albedo(&conductor(0.05, 0.4), dir(0.8), 7, |_| 1.0).x;
+    println!("conductor anisotropic (0.05, 0.4) theta 0.8: {a}");
+    assert!((0.84..=0.89).contains(&a), "anisotropic: {a}");
+}
+
+fn non_delta_bsdfs() -> Vec<Bsdf> {
+    vec![
+        Bsdf::Lambertian {
+            reflectance: Vec3::new(0.2, 0.5, 0.9),
+        },
+        conductor(0.05, 0.05),
+        conductor(0.3, 0.3),
+        conductor(1.0, 1.0),
+        conductor(0.1, 0.6),
+        Bsdf::Conductor {
+            f0: Vec3::new(0.95, 0.64, 0.54),
+            alpha_x: 0.4,
+            alpha_y: 0.2,
+        },
+    ]
+}
+
+#[test]
+fn sample_matches_eval_and_pdf() {
+    let mut r = rng(8);
+    for bsdf in non_delta_bsdfs() {
+        for _ in 0..20_000 {
+            let mut wo = uniform_sphere(&mut r);
+            wo.z = wo.z.abs();
+            let Some(s) = bsdf.sample(wo, uniform2(&mut r), uniform(&mut r)) else {
+                continue;
+            };
+            assert!(!s.delta);
+            let pdf = bsdf.pdf(wo, s.wi);
+            let f = bsdf.eval(wo, s.wi);
+            assert_close(s.pdf, pdf, 1e-3 * pdf.max(1.0), "sampled pdf");
+            assert!((s.f - f).abs().max_element() <= 1e-3 * f.max_element().max(1.0));
+        }
+    }
+}
+
+/// Integrates a function of direction over the sphere with the midpoint rule
+/// in (z, phi), for which d(omega) = dz dphi.
+fn integrate_sphere(nz: usize, nphi: usize, f: impl Fn(Vec3) -> f32) -> f64 {
+    let (dz, dphi) = (2.0 / nz as f64, 2.0 * std::f64::consts::PI / nphi as f64);
+    let mut sum = 0.0;
+    for i in 0..nz {
+        let z = -1.0 + (i as f64 + 0.5) * dz;
+        let s = (1.0 - z * z).sqrt();
+        for j in 0..nphi {
+            let phi = (j as f64 + 0.5) * dphi;
+            let w = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
+            sum += f(w) as f64;
+        }
+    }
+    sum * dz * dphi
+}
+
+/// The pdf integrates over the sphere to the probability that `sample`
+/// succeeds (1 for Lambertian; below 1 for the conductor, whose reflections
+/// about a visible normal can go below the horizon).
+#[test]
+fn pdf_integrates_to_sampling_success_rate() {
+    let mut r = rng(9);
+    for bsdf in non_delta_bsdfs() {
+        for theta in [0.0, 0.7, 1.4] {
+            let wo = dir(theta);
+            let integral = integrate_sphere(4000, 1000, |wi| bsdf.pdf(wo, wi));
+            let successes = (0..N)
+                .filter(|_| bsdf.sample(wo, uniform2(&mut r), 0.5).is_some())
+                .count();
+            let rate = successes as f64 / N as f64;
+            println!("{bsdf:?} theta {theta}: integral {integral}, success {rate}");
+            assert!(
+                (integral - rate).abs() < 0.01,
+                "{bsdf:?}: {integral} vs {rate}"
+            );
+            assert!(integral <= 1.001);
+        }
+    }
+}
+
+/// Pearson's chi-square test of the sampled directions against the pdf on a
+/// (z, phi) grid of equal solid angle cells.
+#[test]
+fn sampling_histogram_matches_pdf() {
+    const NZ: usize = 16;
+    const NPHI: usize = 32;
+    const SAMPLES: usize = 500_000;
+    let cases = [
+        Bsdf::Lambertian {
+            reflectance: Vec3::ONE,
+        },
+        conductor(0.5, 0.5),
+        conductor(0.3, 0.8),
+    ];
+    for bsdf in cases {
+        let wo = dir(0.9);
+        let mut r = rng(10);
+        let mut observed = vec![0.0f64; NZ * NPHI];
+        for _ in 0..SAMPLES {
+            if let Some(s) = bsdf.sample(wo, uniform2(&mut r), 0.5) {
+                let iz = ((s.wi.z * NZ as f32) as usize).min(NZ - 1);
+                let phi = s.wi.y.atan2(s.wi.x).rem_euclid(2.0 * PI);
+                let ip = ((phi / (2.0 * PI) * NPHI as f32) as usize).min(NPHI - 1);
+                observed[iz * NPHI + ip] += 1.0;
+            }
+        }
+        // Expected counts: the pdf integrated over each cell (upper
+        // hemisphere only, 24 x 24 midpoint sub-samples).
+        const SUB: usize = 24;
+        let (dz, dphi) = (1.0 / NZ as f64, 2.0 * std::f64::consts::PI / NPHI as f64);
+        let mut chi2 = 0.0;
+        let mut dof = 0;
+        let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
+        for iz in 0..NZ {
+            for ip in 0..NPHI {
+                let mut cell = 0.0;
+                for a in 0..SUB {
+                    let z = (iz as f64 + (a as f64 + 0.5) / SUB as f64) * dz;
+                    let s = (1.0 - z * z).sqrt();
+                    for b in 0..SUB {
+                        let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dphi;
+                        let wi =
+                            Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
+                        cell += bsdf.pdf(wo, wi) as f64;
+                    }
+                }
+                let expected = cell * dz * dphi / (SUB * SUB) as f64 * SAMPLES as f64;
+                let obs = observed[iz * NPHI + ip];
+                if expected < 5.0 {
+                    pooled_obs += obs;
+                    pooled_exp += expected;
+                } else {
+                    chi2 += (obs - expected).powi(2) / expected;
+                    dof += 1;
+                }
+            }
+        }
+        if pooled_exp >= 5.0 {
+            chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
+            dof += 1;
+        }
+        // Wilson-Hilferty: the chi-square quantile at p = 1e-4 (z = 3.72).
+        let k = (dof - 1) as f64;
+        let c = 2.0 / (9.0 * k);
+        let critical = k * (1.0 - c + 3.72 * c.sqrt()).powi(3);
+        println!("{bsdf:?}: chi2 {chi2} dof {k} critical {critical}");
+        assert!(chi2 < critical, "{bsdf:?}: chi2 {chi2} >= {critical}");
+    }
+}
+
+#[test]
+fn reciprocity() {
+    let mut r = rng(11);
+    for bsdf in non_delta_bsdfs() {
+        for _ in 0..10_000 {
+            let (a, b) = (uniform_sphere(&mut r), uniform_sphere(&mut r));
+            let (fab, fba) = (bsdf.eval(a, b), bsdf.eval(b, a));
+            assert!(
+                (fab - fba).abs().max_element() <= 1e-4 * fab.max_element().max(1.0),
+                "{bsdf:?}: {fab} vs {fba}"
+            );
+        }
+    }
+}
+
+/// The integral of D(h) cos(theta_h) over the hemisphere is 1 (the projected
+/// microfacet area equals the macro surface area).
+#[test]
+fn ggx_d_projected_area_is_one() {
+    for (ax, ay) in [(0.05, 0.05), (0.1, 0.1), (0.5, 0.5), (1.0, 1.0), (0.1, 0.6)] {
+        let d = TrowbridgeReitz::new(ax, ay);
+        let integral = integrate_sphere(400_000, 128, |h| d.d(h) * h.z.max(0.0));
+        println!("GGX ({ax}, {ay}): {integral}");
+        assert!((integral - 1.0).abs() < 2e-3, "({ax}, {ay}): {integral}");
+    }
+}
+
+#[test]
+fn roughness_to_alpha_is_monotone_and_clamped() {
+    // metal2's Schlick distribution with r = u v is GGX with alpha^2 = r.
+    for (roughness, alpha) in [
+        (0.0, 1e-3),
+        (-1.0, 1e-3),
+        (f32::NAN, 1e-3),
+        (1e-4, 1e-3),
+        (0.01, 0.01),
+        (0.1, 0.1),
+        (0.5, 0.5),
+        (1.0, 1.0),
+        (3.0, 1.0),
+        (f32::INFINITY, 1.0),
+    ] {
+        assert_eq!(
+            roughness_to_alpha(roughness),
+            alpha,
+            "roughness {roughness}"
+        );
+    }
+    let mut last = 0.0;
+    for i in 0..=2000 {
+        let a = roughness_to_alpha(i as f32 * 1e-3);
+        assert!(a >= last && a.is_finite());
+        last = a;
+    }
+}
+
+#[test]
+fn fresnel_limits() {
+    for eta in [1.33f32, 1.5, 2.4] {
+        let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+        assert_close(fr_dielectric(1.0, eta), f0, 1e-6, "normal incidence");
+        assert_close(fr_dielectric(-1.0, eta), f0, 1e-6, "from inside");
+        assert_close(fr_dielectric(0.0, eta), 1.0, 1e-6, "grazing");
+        // Beyond the critical angle, asin(1 / eta), light inside is reflected.
+        let cos_c = (1.0 - 1.0 / (eta * eta)).sqrt();
+        assert_eq!(fr_dielectric(-(cos_c - 1e-3), eta), 1.0);
+        assert!(fr_dielectric(-(cos_c + 1e-3), eta) < 1.0);
+    }
+    let f0 = Vec3::new(0.1, 0.5, 0.9);
+    assert_eq!(schlick(f0, 1.0), f0);
+    assert_eq!(schlick(f0, 0.0), Vec3::ONE);
+}
+
+#[test]
+fn frame_is_orthonormal_and_round_trips() {
+    let mut r = rng(12);
+    let edge = [
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        -Vec3::Y,
+        Vec3::new(0.0, 0.6, -0.8),
+    ];
+    let normals = edge
+        .into_iter()
+        .chain((0..10_000).map(|_| uniform_sphere(&mut r)));
+    for n in normals.collect::<Vec<_>>() {
+        let t = uniform_sphere(&mut r);
+        for f in [Frame::from_z(n), Frame::from_xz(t, n), Frame::from_xz(n, n)] {
+            for (a, b) in [(f.x, f.y), (f.y, f.z), (f.z, f.x)] {
+                assert!(a.dot(b).abs() < 1e-5, "{f:?}");
+            }
+            for v in [f.x, f.y, f.z] {
+                assert_close(v.length(), 1.0, 1e-5, "unit axis");
+            }
+            // Right-handed, so local +z is the normal and x × y = z.
+            assert!(f.x.cross(f.y).distance(f.z) < 1e-5);
+            assert_eq!(f.z, n);
+            let v = uniform_sphere(&mut r);
+            assert!(f.to_world(f.to_local(v)).distance(v) < 1e-5);
+            assert_close(f.to_local(v).z, v.dot(n), 1e-6, "local z");
+        }
+    }
+}
+
+#[test]
+fn delta_lobes() {
+    let wo = dir(0.6);
+    for bsdf in [
+        Bsdf::SpecularReflection {
+            reflectance: Vec3::ONE,
+        },
+        glass(1.5),
+    ] {
+        assert!(bsdf.is_delta());
+        let s = bsdf.sample(wo, Vec2::splat(0.3), 0.0).unwrap();
+        assert!(s.delta);
+        assert_eq!(bsdf.eval(wo, s.wi), Vec3::ZERO);
+        assert_eq!(bsdf.pdf(wo, s.wi), 0.0);
+        assert!(s.wi.distance(Vec3::new(-wo.x, -wo.y, wo.z)) < 1e-6);
+    }
+    for bsdf in non_delta_bsdfs() {
+        assert!(!bsdf.is_delta());
+    }
+}
+
+#[test]
+fn opaque_bsdfs_reject_wo_below_the_surface() {
+    let wo = -dir(0.6);
+    for bsdf in non_delta_bsdfs()
+        .into_iter()
+        .chain([Bsdf::SpecularReflection {
+            reflectance: Vec3::ONE,
+        }])
+    {
+        assert!(bsdf.sample(wo, Vec2::splat(0.3), 0.3).is_none());
+        assert_eq!(bsdf.eval(wo, dir(0.2)), Vec3::ZERO);
+        assert_eq!(bsdf.pdf(wo, dir(0.2)), 0.0);
+        assert_eq!(bsdf.eval(dir(0.2), wo), Vec3::ZERO);
+    }
+}
+
+#[test]
+fn fuzz_outputs_are_finite() {
+    let scalars = [
+        0.0,
+        -0.0,
+        1e-30,
+        1e-7,
+        1e-3,
+        0.1,
+        0.5,
+        1.0,
+        1.5,
+        2.0,
+        1e30,
+        -1.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    let mut bsdfs = vec![
+        Bsdf::Lambertian {
+            reflectance: Vec3::ONE,
+        },
+        Bsdf::SpecularReflection {
+            reflectance: Vec3::ONE,
+        },
+    ];
+    for &a in &scalars {
+        bsdfs.push(glass(a));
+        for &b in &scalars {
+            bsdfs.push(conductor(a, b));
+        }
+    }
+    let mut r = rng(13);
+    let mut dirs = vec![
+        Vec3::ZERO,
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        -Vec3::Y,
+        Vec3::new(1.0, 0.0, 1e-7),
+        Vec3::new(1.0, 0.0, -1e-7),
+        Vec3::new(1.0, 0.0, 1e-30),
+        Vec3::new(1e-7, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, 1e-30),
+        Vec3::new(0.0, 0.0, 1e30),
+        Vec3::new(1e30, 1e30, 1e30),
+        Vec3::new(f32::NAN, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, f32::INFINITY),
+    ];
+    dirs.extend((0..40).map(|_| uniform_sphere(&mut r)));
+    dirs.extend((0..20).map(|_| {
+        let w = uniform_sphere(&mut r);
+        Vec3::new(w.x, w.y, w.z * 1e-6)
+    }));
+    let samples = [0.0, 1e-7, 0.5, 1.0 - 1e-7, 1.0, -0.5, 2.0, f32::NAN];
+    let mut count = 0usize;
+    for bsdf in &bsdfs {
+        assert!(bsdf.albedo().is_finite(), "{bsdf:?}");
+        for &wo in &dirs {
+            for &wi in &dirs {
+                let (f, pdf) = (bsdf.eval(wo, wi), bsdf.pdf(wo, wi));
+                assert!(
+                    f.is_finite() && f.min_element() >= 0.0,
+                    "{bsdf:?} {wo} {wi}: {f}"
+                );
+                assert!(pdf.is_finite() && pdf >= 0.0, "{bsdf:?} {wo} {wi}: {pdf}");
+            }
+            let mut us: Vec<(Vec2, f32)> = samples
+                .iter()
+                .flat_map(|&a| samples.iter().map(move |&b| (Vec2::new(a, b), a)))
+                .collect();
+            us.extend((0..30).map(|_| (uniform2(&mut r), uniform(&mut r))));
+            for (u, uc) in us {
+                if let Some(s) = bsdf.sample(wo, u, uc) {
+                    count += 1;
+                    assert!(
+                        s.wi.is_finite() && s.f.is_finite(),
+                        "{bsdf:?} {wo} {u}: {s:?}"
+                    );
+                    assert!(s.pdf.is_finite() && s.pdf > 0.0, "{bsdf:?} {wo} {u}: {s:?}");
+                    assert!(s.f.min_element() >= 0.0);
+                    assert_close(s.wi.length(), 1.0, 1e-4, "unit wi");
+                }
+            }
+        }
+    }
+    assert!(count > 100_000, "too few successful samples: {count}");
+}

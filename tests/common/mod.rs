@@ -1,0 +1,233 @@
+//! Scenes built in code for the integration tests, and small image helpers.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use foton::integrator::Renderer;
+use foton::scene::build::{RenderOptions, build_world};
+use foton::scene::desc::*;
+use glam::{Mat4, Vec2, Vec3};
+
+pub fn location() -> Location {
+    Location {
+        file: PathBuf::from("test"),
+        line: 1,
+    }
+}
+
+/// A camera at `eye` looking at `target`, z up, as `LookAt` makes it.
+pub fn look_at(eye: Vec3, target: Vec3, fov_degrees: f32) -> CameraDesc {
+    let dir = (target - eye).normalize();
+    let right = dir.cross(Vec3::Z).normalize();
+    let up = right.cross(dir);
+    CameraDesc {
+        projection: Projection::Perspective { fov_degrees },
+        camera_to_world: Mat4::from_cols(
+            right.extend(0.0),
+            up.extend(0.0),
+            dir.extend(0.0),
+            eye.extend(1.0),
+        ),
+        screen_window: None,
+        lens_radius: 0.0,
+        focal_distance: 1e6,
+        location: location(),
+    }
+}
+
+pub fn empty_scene(camera: CameraDesc, width: u32, height: u32) -> SceneDesc {
+    SceneDesc {
+        camera,
+        film: FilmDesc {
+            x_resolution: width,
+            y_resolution: height,
+            gamma: 2.2,
+            filename: None,
+            tonemap: ToneMap::AutoLinear,
+        },
+        pixel_samples: None,
+        max_depth: None,
+        filter: FilterDesc {
+            kind: FilterKind::Box,
+            radius: Vec2::splat(0.5),
+        },
+        textures: Vec::new(),
+        materials: Vec::new(),
+        shapes: Vec::new(),
+        lights: Vec::new(),
+        warnings: Vec::new(),
+    }
+}
+
+pub fn matte(scene: &mut SceneDesc, albedo: Vec3) -> MaterialId {
+    scene.materials.push(MaterialDesc::Matte {
+        kd: ColorParam::Constant(albedo),
+    });
+    scene.materials.len() - 1
+}
+
+pub fn sphere(scene: &mut SceneDesc, centre: Vec3, radius: f32, material: MaterialId) {
+    scene.shapes.push(ShapeDesc {
+        geometry: Geometry::Sphere { radius },
+        object_to_world: Mat4::from_translation(centre),
+        material: Some(material),
+        area_light: None,
+        location: location(),
+    });
+}
+
+/// An axis-aligned quad with corners in order (normal by the right-hand rule).
+pub fn quad(
+    scene: &mut SceneDesc,
+    corners: [Vec3; 4],
+    material: MaterialId,
+    area_light: Option<AreaLightDesc>,
+) {
+    scene.shapes.push(ShapeDesc {
+        geometry: Geometry::TriangleMesh {
+            positions: corners.to_vec(),
+            normals: None,
+            uvs: None,
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+        },
+        object_to_world: Mat4::IDENTITY,
+        material: Some(material),
+        area_light,
+        location: location(),
+    });
+}
+
+pub fn emitter(l: Vec3) -> AreaLightDesc {
+    AreaLightDesc {
+        l,
+        gain: 1.0,
+        power: 0.0,
+        efficacy: 0.0,
+    }
+}
+
+/// A small closed Cornell-style box with a diffuse sphere, a glass sphere, a metal sphere,
+/// an area light and a point light: every kind of material and light path.
+pub fn test_box() -> SceneDesc {
+    let mut scene = empty_scene(
+        look_at(Vec3::new(0.0, -3.5, 1.0), Vec3::new(0.0, 0.0, 1.0), 40.0),
+        40,
+        30,
+    );
+    let white = matte(&mut scene, Vec3::splat(0.7));
+    let red = matte(&mut scene, Vec3::new(0.6, 0.1, 0.1));
+    scene.materials.push(MaterialDesc::Glass {
+        kr: ColorParam::Constant(Vec3::ONE),
+        kt: ColorParam::Constant(Vec3::ONE),
+        index: 1.5,
+    });
+    let glass = scene.materials.len() - 1;
+    scene.materials.push(MaterialDesc::Metal {
+        kr: ColorParam::Constant(Vec3::splat(0.9)),
+        u_roughness: 0.1,
+        v_roughness: 0.1,
+    });
+    let metal = scene.materials.len() - 1;
+    scene.materials.push(MaterialDesc::Null);
+    let null = scene.materials.len() - 1;
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    quad(
+        &mut scene,
+        [
+            v(-1., -1., 0.),
+            v(1., -1., 0.),
+            v(1., 1., 0.),
+            v(-1., 1., 0.),
+        ],
+        white,
+        None,
+    );
+    quad(
+        &mut scene,
+        [
+            v(-1., -1., 2.),
+            v(-1., 1., 2.),
+            v(1., 1., 2.),
+            v(1., -1., 2.),
+        ],
+        white,
+        None,
+    );
+    quad(
+        &mut scene,
+        [v(-1., 1., 0.), v(1., 1., 0.), v(1., 1., 2.), v(-1., 1., 2.)],
+        white,
+        None,
+    );
+    quad(
+        &mut scene,
+        [
+            v(-1., -1., 0.),
+            v(-1., 1., 0.),
+            v(-1., 1., 2.),
+            v(-1., -1., 2.),
+        ],
+        red,
+        None,
+    );
+    quad(
+        &mut scene,
+        [v(1., -1., 0.), v(1., -1., 2.), v(1., 1., 2.), v(1., 1., 0.)],
+        white,
+        None,
+    );
+    quad(
+        &mut scene,
+        [
+            v(-0.3, -0.3, 1.99),
+            v(-0.3, 0.3, 1.99),
+            v(0.3, 0.3, 1.99),
+            v(0.3, -0.3, 1.99),
+        ],
+        null,
+        Some(emitter(Vec3::splat(10.0))),
+    );
+    sphere(&mut scene, v(-0.5, 0.3, 0.3), 0.3, metal);
+    sphere(&mut scene, v(0.5, -0.2, 0.3), 0.3, glass);
+    sphere(&mut scene, v(0.0, 0.5, 0.6), 0.25, white);
+    scene.lights.push(LightDesc::Point {
+        position: v(0.5, 0.5, 1.5),
+        intensity: Vec3::splat(0.5),
+    });
+    scene
+}
+
+pub fn render(desc: SceneDesc, options: &RenderOptions) -> Vec<Vec3> {
+    let (world, _) = build_world(desc, options);
+    let mut renderer = Renderer::new(world);
+    renderer.render(|_| {});
+    renderer.image()
+}
+
+pub fn options(spp: u32, max_depth: u32) -> RenderOptions {
+    RenderOptions {
+        samples_per_pixel: Some(spp),
+        max_depth: Some(max_depth),
+        ..RenderOptions::default()
+    }
+}
+
+/// Where the course's shared scenes are, if present.
+pub fn shared_scenes() -> Option<PathBuf> {
+    let candidates = [
+        std::env::var("FOTON_SHARED").ok().map(PathBuf::from),
+        Some(PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared"
+        ))),
+    ];
+    let found = candidates
+        .into_iter()
+        .flatten()
+        .map(|p| p.join("scenes/itba"))
+        .find(|p| p.is_dir());
+    if found.is_none() {
+        eprintln!("skipped: ../shared not found (set FOTON_SHARED to the shared folder)");
+    }
+    found
+}
