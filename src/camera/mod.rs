@@ -8,6 +8,7 @@
 //! spherical ones unit vectors (a focal sphere). The thin lens relies only on that.
 
 pub mod fisheye;
+pub mod orthographic;
 pub mod pinhole;
 pub mod thin_lens;
 
@@ -46,6 +47,7 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
     pinhole::register(pass, world);
     thin_lens::register(pass, world);
     fisheye::register(pass, world);
+    orthographic::register(pass, world);
 }
 
 /// Whether any entity has component `T`.

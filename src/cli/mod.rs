@@ -120,6 +120,7 @@ pub enum CameraArg {
     Pinhole,
     ThinLens,
     Fisheye,
+    Orthographic,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -152,6 +153,7 @@ impl SceneArgs {
                 CameraArg::Pinhole => CameraKind::Pinhole,
                 CameraArg::ThinLens => CameraKind::ThinLens,
                 CameraArg::Fisheye => CameraKind::Fisheye,
+                CameraArg::Orthographic => CameraKind::Orthographic,
             }),
             focal_distance: self.focal_distance,
             lens_radius: self.lens_radius,

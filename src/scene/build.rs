@@ -8,6 +8,7 @@ use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{AreaLightDesc, Geometry, LightDesc, MaterialDesc, Projection, SceneDesc};
 use crate::camera::fisheye::{Fisheye, FisheyeFit};
+use crate::camera::orthographic::Orthographic;
 use crate::camera::pinhole::Pinhole;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, default_screen_window};
@@ -35,6 +36,7 @@ pub enum CameraKind {
     Pinhole,
     ThinLens,
     Fisheye,
+    Orthographic,
 }
 
 /// What the command line sets on top of the scene file.
@@ -275,6 +277,7 @@ fn spawn_camera(
     };
     let kind = options.camera.unwrap_or(match camera.projection {
         Projection::Fisheye { .. } => CameraKind::Fisheye,
+        Projection::Orthographic => CameraKind::Orthographic,
         _ if camera.lens_radius > 0.0 => CameraKind::ThinLens,
         _ => CameraKind::Pinhole,
     });
@@ -294,6 +297,11 @@ fn spawn_camera(
             };
             entity.insert(Pinhole {
                 fov_degrees,
+                screen_window: window,
+            });
+        }
+        CameraKind::Orthographic => {
+            entity.insert(Orthographic {
                 screen_window: window,
             });
         }
