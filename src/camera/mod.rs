@@ -7,6 +7,7 @@
 //! `f` in focus lies at `origin + f * direction`. Planar projections write `z = 1` (a focal plane),
 //! spherical ones unit vectors (a focal sphere). The thin lens relies only on that.
 
+pub mod equirectangular;
 pub mod fisheye;
 pub mod orthographic;
 pub mod pinhole;
@@ -48,6 +49,7 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
     thin_lens::register(pass, world);
     fisheye::register(pass, world);
     orthographic::register(pass, world);
+    equirectangular::register(pass, world);
 }
 
 /// Whether any entity has component `T`.

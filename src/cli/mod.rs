@@ -121,6 +121,7 @@ pub enum CameraArg {
     ThinLens,
     Fisheye,
     Orthographic,
+    Equirectangular,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -154,6 +155,7 @@ impl SceneArgs {
                 CameraArg::ThinLens => CameraKind::ThinLens,
                 CameraArg::Fisheye => CameraKind::Fisheye,
                 CameraArg::Orthographic => CameraKind::Orthographic,
+                CameraArg::Equirectangular => CameraKind::Equirectangular,
             }),
             focal_distance: self.focal_distance,
             lens_radius: self.lens_radius,

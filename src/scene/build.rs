@@ -7,6 +7,7 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{AreaLightDesc, Geometry, LightDesc, MaterialDesc, Projection, SceneDesc};
+use crate::camera::equirectangular::Equirectangular;
 use crate::camera::fisheye::{Fisheye, FisheyeFit};
 use crate::camera::orthographic::Orthographic;
 use crate::camera::pinhole::Pinhole;
@@ -37,6 +38,7 @@ pub enum CameraKind {
     ThinLens,
     Fisheye,
     Orthographic,
+    Equirectangular,
 }
 
 /// What the command line sets on top of the scene file.
@@ -278,6 +280,7 @@ fn spawn_camera(
     let kind = options.camera.unwrap_or(match camera.projection {
         Projection::Fisheye { .. } => CameraKind::Fisheye,
         Projection::Orthographic => CameraKind::Orthographic,
+        Projection::Equirectangular => CameraKind::Equirectangular,
         _ if camera.lens_radius > 0.0 => CameraKind::ThinLens,
         _ => CameraKind::Pinhole,
     });
@@ -304,6 +307,9 @@ fn spawn_camera(
             entity.insert(Orthographic {
                 screen_window: window,
             });
+        }
+        CameraKind::Equirectangular => {
+            entity.insert(Equirectangular);
         }
         CameraKind::Fisheye => {
             entity.insert(Fisheye {
