@@ -1,7 +1,7 @@
 //! Lambertian (ideal diffuse) reflection: f = R / pi on the upper hemisphere.
 
 use super::BsdfSample;
-use super::sampling::sample_cosine_hemisphere;
+use crate::sampling::warp::cosine_hemisphere;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -32,7 +32,7 @@ impl Lambertian {
         if wo.z <= 0.0 {
             return None;
         }
-        let wi = sample_cosine_hemisphere(u);
+        let wi = cosine_hemisphere(u);
         let pdf = self.pdf(wo, wi);
         (pdf > 0.0).then(|| BsdfSample {
             wi,

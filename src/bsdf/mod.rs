@@ -13,7 +13,6 @@ pub mod frame;
 pub mod fresnel;
 mod lambertian;
 pub mod microfacet;
-mod sampling;
 mod specular_reflection;
 
 use conductor::Conductor;
