@@ -30,7 +30,7 @@ fn wavefront(c: &mut Criterion) {
         group.bench_function(name, |b| {
             b.iter_batched(
                 || Renderer::new(build_world(desc.clone(), &options).0),
-                |mut renderer| renderer.render(|_| {}),
+                |mut renderer| renderer.render(|_| true),
                 criterion::BatchSize::LargeInput,
             )
         });

@@ -185,6 +185,7 @@ fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
 /// Runs the command line; errors are printed, and give a non-zero exit code.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
+    render::stop_gracefully_on_interrupt();
     let result = match cli.command {
         Command::Render(args) => render::run(&args.scene, args.output, args.exposure, args.repeat),
         Command::Bench(args) => bench::run(&args.scene, args.repeat),

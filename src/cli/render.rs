@@ -1,6 +1,7 @@
 //! `foton render`: load, build, render, write.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -82,6 +83,15 @@ pub fn run(
     Ok(())
 }
 
+/// Set by Ctrl-C: the render stops after the pass under way, and its image is still written.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Makes Ctrl-C finish the current pass and keep the work done, instead of losing it.
+pub fn stop_gracefully_on_interrupt() {
+    // Fails only if a handler is already installed, which then does the same.
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
+}
+
 /// Renders, with a progress bar and ETA on a terminal.
 pub fn render_with_progress(renderer: &mut Renderer) -> RenderStats {
     let passes = renderer.samples_per_pixel() as u64;
@@ -91,8 +101,14 @@ pub fn render_with_progress(renderer: &mut Renderer) -> RenderStats {
             .unwrap_or_else(|_| ProgressStyle::default_bar())
             .progress_chars("=> "),
     );
-    let stats = renderer.render(|done| bar.set_position(done as u64));
+    let stats = renderer.render(|done| {
+        bar.set_position(done as u64);
+        !INTERRUPTED.load(Ordering::Relaxed)
+    });
     bar.finish_and_clear();
+    if INTERRUPTED.load(Ordering::Relaxed) {
+        eprintln!("interrupted: keeping the {} passes done", stats.passes);
+    }
     stats
 }
 

@@ -205,9 +205,9 @@ impl Renderer {
         lines.join("\n")
     }
 
-    /// Renders passes until the samples per pixel or the time limit are reached; `on_pass` is
-    /// told after each pass how many are done.
-    pub fn render(&mut self, mut on_pass: impl FnMut(u32)) -> RenderStats {
+    /// Renders passes until the samples per pixel or the time limit are reached, or until
+    /// `on_pass` (told after each pass how many are done) returns false.
+    pub fn render(&mut self, mut on_pass: impl FnMut(u32) -> bool) -> RenderStats {
         let settings = self.world.resource::<RenderSettings>().clone();
         let start = Instant::now();
         let mut rays = 0u64;
@@ -222,10 +222,11 @@ impl Renderer {
                 rays += shadows.t_max.iter().filter(|t| **t > 0.0).count() as u64;
             }
             passes += 1;
-            on_pass(passes);
-            if settings
-                .time_limit
-                .is_some_and(|limit| start.elapsed() >= limit)
+            let go_on = on_pass(passes);
+            if !go_on
+                || settings
+                    .time_limit
+                    .is_some_and(|limit| start.elapsed() >= limit)
             {
                 break;
             }

@@ -200,7 +200,7 @@ pub fn test_box() -> SceneDesc {
 pub fn render(desc: SceneDesc, options: &RenderOptions) -> Vec<Vec3> {
     let (world, _) = build_world(desc, options);
     let mut renderer = Renderer::new(world);
-    renderer.render(|_| {});
+    renderer.render(|_| true);
     renderer.image()
 }
 
