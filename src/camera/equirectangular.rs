@@ -6,9 +6,8 @@ use std::f32::consts::PI;
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use rayon::prelude::*;
 
-use super::{CameraStage, world_has};
+use super::{CameraStage, generate_camera_rays, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -16,13 +15,12 @@ use crate::settings::RenderSettings;
 pub struct Equirectangular;
 
 pub fn register(pass: &mut Schedule, world: &mut World) {
-    if world_has::<Equirectangular>(world) {
-        pass.add_systems(
-            generate_equirectangular_rays
-                .run_if(any_with_component::<Equirectangular>)
-                .in_set(CameraStage::Generate),
-        );
-    }
+    register_for::<Equirectangular, _>(
+        pass,
+        world,
+        CameraStage::Generate,
+        generate_equirectangular_rays,
+    );
 }
 
 /// The camera-space unit direction for longitude `longitude` (0 ahead, positive to the right)
@@ -35,19 +33,9 @@ pub fn equirectangular_direction(longitude: f32, latitude: f32) -> Vec3 {
 
 fn generate_equirectangular_rays(settings: Res<RenderSettings>, mut batch: ResMut<PathBatch>) {
     let (width, height) = (settings.width as f32, settings.height as f32);
-    let batch = &mut *batch;
-    let n = batch.len;
-    (
-        &batch.film_position[..n],
-        &mut batch.origin[..n],
-        &mut batch.direction[..n],
-    )
-        .into_par_iter()
-        .with_min_len(1024)
-        .for_each(|(film, origin, direction)| {
-            let longitude = (film.x / width - 0.5) * 2.0 * PI;
-            let latitude = (0.5 - film.y / height) * PI;
-            *origin = Vec3::ZERO;
-            *direction = equirectangular_direction(longitude, latitude);
-        });
+    generate_camera_rays(&mut batch, |film| {
+        let longitude = (film.x / width - 0.5) * 2.0 * PI;
+        let latitude = (0.5 - film.y / height) * PI;
+        Some((Vec3::ZERO, equirectangular_direction(longitude, latitude)))
+    });
 }

@@ -6,9 +6,8 @@ use std::f32::consts::PI;
 
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
-use rayon::prelude::*;
 
-use super::{CameraStage, world_has};
+use super::{CameraStage, generate_camera_rays, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -30,13 +29,7 @@ pub enum FisheyeFit {
 }
 
 pub fn register(pass: &mut Schedule, world: &mut World) {
-    if world_has::<Fisheye>(world) {
-        pass.add_systems(
-            generate_fisheye_rays
-                .run_if(any_with_component::<Fisheye>)
-                .in_set(CameraStage::Generate),
-        );
-    }
+    register_for::<Fisheye, _>(pass, world, CameraStage::Generate, generate_fisheye_rays);
 }
 
 /// The camera-space unit direction for a film point normalised to [-1, 1] (y up), or `None`
@@ -67,23 +60,9 @@ fn generate_fisheye_rays(
         FisheyeFit::Ellipse => size * 0.5,
         FisheyeFit::Circle => Vec2::splat(size.min_element() * 0.5),
     };
-    let batch = &mut *batch;
-    let n = batch.len;
-    (
-        &batch.film_position[..n],
-        &mut batch.origin[..n],
-        &mut batch.direction[..n],
-        &mut batch.alive[..n],
-    )
-        .into_par_iter()
-        .with_min_len(1024)
-        .for_each(|(film, origin, direction, alive)| {
-            let centred = (*film - size * 0.5) / half_extent;
-            *origin = Vec3::ZERO;
-            match fisheye_direction(Vec2::new(centred.x, -centred.y), fov) {
-                Some(d) => *direction = d,
-                // Outside the image circle: a black sample that costs no ray.
-                None => *alive = false,
-            }
-        });
+    // Outside the image circle: a black sample that costs no ray.
+    generate_camera_rays(&mut batch, |film| {
+        let centred = (film - size * 0.5) / half_extent;
+        fisheye_direction(Vec2::new(centred.x, -centred.y), fov).map(|d| (Vec3::ZERO, d))
+    });
 }

@@ -14,7 +14,9 @@ pub mod pinhole;
 pub mod thin_lens;
 
 use bevy_ecs::prelude::*;
-use glam::{Affine3A, Vec2};
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+use glam::{Affine3A, Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::integrator::batch::PathBatch;
@@ -52,13 +54,48 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
     equirectangular::register(pass, world);
 }
 
-/// Whether any entity has component `T`.
-pub fn world_has<T: Component>(world: &mut World) -> bool {
-    world
-        .query_filtered::<(), With<T>>()
+/// Adds `system` to `stage` when the world has a camera component `C`, to run while it does.
+pub fn register_for<C: Component, M>(
+    pass: &mut Schedule,
+    world: &mut World,
+    stage: CameraStage,
+    system: impl IntoScheduleConfigs<ScheduleSystem, M>,
+) {
+    if world
+        .query_filtered::<(), With<C>>()
         .iter(world)
         .next()
         .is_some()
+    {
+        let configs: ScheduleConfigs<ScheduleSystem> =
+            system.run_if(any_with_component::<C>).in_set(stage);
+        pass.add_systems(configs);
+    }
+}
+
+/// Fills every path's camera-space ray from its film position: `project` maps a raster position
+/// to (origin, direction), or to `None` where the camera sees nothing (a black sample that costs
+/// no ray).
+pub fn generate_camera_rays(
+    batch: &mut PathBatch,
+    project: impl Fn(Vec2) -> Option<(Vec3, Vec3)> + Sync,
+) {
+    let n = batch.len;
+    (
+        &batch.film_position[..n],
+        &mut batch.origin[..n],
+        &mut batch.direction[..n],
+        &mut batch.alive[..n],
+    )
+        .into_par_iter()
+        .with_min_len(1024)
+        .for_each(|(film, origin, direction, alive)| match project(*film) {
+            Some((o, d)) => {
+                *origin = o;
+                *direction = d;
+            }
+            None => *alive = false,
+        });
 }
 
 /// Maps a raster position (pixels, y down) to the screen window [xmin, xmax, ymin, ymax] (y up).

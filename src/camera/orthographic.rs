@@ -3,9 +3,8 @@
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use rayon::prelude::*;
 
-use super::{CameraStage, raster_to_screen, world_has};
+use super::{CameraStage, generate_camera_rays, raster_to_screen, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -16,13 +15,12 @@ pub struct Orthographic {
 }
 
 pub fn register(pass: &mut Schedule, world: &mut World) {
-    if world_has::<Orthographic>(world) {
-        pass.add_systems(
-            generate_orthographic_rays
-                .run_if(any_with_component::<Orthographic>)
-                .in_set(CameraStage::Generate),
-        );
-    }
+    register_for::<Orthographic, _>(
+        pass,
+        world,
+        CameraStage::Generate,
+        generate_orthographic_rays,
+    );
 }
 
 fn generate_orthographic_rays(
@@ -32,18 +30,9 @@ fn generate_orthographic_rays(
 ) {
     let window = camera.screen_window;
     let (width, height) = (settings.width, settings.height);
-    let batch = &mut *batch;
-    let n = batch.len;
-    (
-        &batch.film_position[..n],
-        &mut batch.origin[..n],
-        &mut batch.direction[..n],
-    )
-        .into_par_iter()
-        .with_min_len(1024)
-        .for_each(|(film, origin, direction)| {
-            *origin = raster_to_screen(*film, width, height, window).extend(0.0);
-            // z = 1: the focal plane, for a lens, is at the focal distance.
-            *direction = Vec3::Z;
-        });
+    // z = 1: the focal plane, for a lens, is at the focal distance.
+    generate_camera_rays(&mut batch, |film| {
+        let origin = raster_to_screen(film, width, height, window).extend(0.0);
+        Some((origin, Vec3::Z))
+    });
 }

@@ -2,9 +2,8 @@
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use rayon::prelude::*;
 
-use super::{CameraStage, raster_to_screen, world_has};
+use super::{CameraStage, generate_camera_rays, raster_to_screen, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -17,13 +16,7 @@ pub struct Pinhole {
 }
 
 pub fn register(pass: &mut Schedule, world: &mut World) {
-    if world_has::<Pinhole>(world) {
-        pass.add_systems(
-            generate_pinhole_rays
-                .run_if(any_with_component::<Pinhole>)
-                .in_set(CameraStage::Generate),
-        );
-    }
+    register_for::<Pinhole, _>(pass, world, CameraStage::Generate, generate_pinhole_rays);
 }
 
 fn generate_pinhole_rays(
@@ -34,18 +27,8 @@ fn generate_pinhole_rays(
     let camera = **camera;
     let tan_half_fov = (camera.fov_degrees.to_radians() * 0.5).tan();
     let (width, height) = (settings.width, settings.height);
-    let batch = &mut *batch;
-    let n = batch.len;
-    (
-        &batch.film_position[..n],
-        &mut batch.origin[..n],
-        &mut batch.direction[..n],
-    )
-        .into_par_iter()
-        .with_min_len(1024)
-        .for_each(|(film, origin, direction)| {
-            let screen = raster_to_screen(*film, width, height, camera.screen_window);
-            *origin = Vec3::ZERO;
-            *direction = (screen * tan_half_fov).extend(1.0);
-        });
+    generate_camera_rays(&mut batch, |film| {
+        let screen = raster_to_screen(film, width, height, camera.screen_window);
+        Some((Vec3::ZERO, (screen * tan_half_fov).extend(1.0)))
+    });
 }

@@ -7,7 +7,7 @@
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
-use super::{CameraStage, world_has};
+use super::{CameraStage, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::sampling::warp::concentric_disk;
 
@@ -18,13 +18,7 @@ pub struct ThinLens {
 }
 
 pub fn register(pass: &mut Schedule, world: &mut World) {
-    if world_has::<ThinLens>(world) {
-        pass.add_systems(
-            focus_through_thin_lens
-                .run_if(any_with_component::<ThinLens>)
-                .in_set(CameraStage::Lens),
-        );
-    }
+    register_for::<ThinLens, _>(pass, world, CameraStage::Lens, focus_through_thin_lens);
 }
 
 fn focus_through_thin_lens(lens: Single<&ThinLens>, mut batch: ResMut<PathBatch>) {

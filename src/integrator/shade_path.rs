@@ -4,103 +4,33 @@
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use rayon::prelude::*;
 
-use super::batch::{HitBatch, PathBatch, ShadowBatch};
-use super::shading::{PathSlots, Scene, ShadowRay, face_forward};
+use super::batch::{PathBatch, ShadowBatch};
+use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
 use crate::accel::Hit;
 use crate::light::LightTable;
-use crate::material::MaterialTable;
-use crate::material::texture::TextureTable;
 use crate::sampling::warp::power_heuristic;
-use crate::settings::RenderSettings;
-use crate::shape::geometry::{NO_EMITTER, SceneGeometry};
+use crate::shape::geometry::NO_EMITTER;
 
 /// Bounces after which Russian roulette may end a path.
 const ROULETTE_DEPTH: u32 = 2;
 
-#[allow(clippy::too_many_arguments)]
 pub fn shade_path_vertices(
-    geometry: Res<SceneGeometry>,
-    materials: Res<MaterialTable>,
-    textures: Option<Res<TextureTable>>,
-    lights: Res<LightTable>,
-    settings: Res<RenderSettings>,
-    hits: Res<HitBatch>,
+    inputs: ShadingInputs,
     mut batch: ResMut<PathBatch>,
     mut shadows: ResMut<ShadowBatch>,
 ) {
-    let scene = Scene {
-        geometry: &geometry,
-        materials: &materials,
-        textures: textures.as_deref(),
-        lights: &lights,
-        max_depth: settings.max_depth,
-    };
-    let n = batch.len;
-    shadows.clear(n);
-    let b = &mut *batch;
-    let s = &mut *shadows;
-    let paths = (
-        &hits.hit[..n],
-        &mut b.origin[..n],
-        &mut b.direction[..n],
-        &mut b.throughput[..n],
-        &mut b.radiance[..n],
-        &mut b.depth[..n],
-        &mut b.pass_through[..n],
-        &mut b.rng[..n],
-        &mut b.scatter_pdf[..n],
-        &mut b.alive[..n],
+    let scene = inputs.scene();
+    shade_live_paths(
+        inputs.hits(),
+        &mut batch,
+        &mut shadows,
+        |hit, path, mut shadow| {
+            if let Some(ray) = shade_vertex(&scene, hit, path) {
+                shadow.emit(0, ray);
+            }
+        },
     );
-    let shadow_slots = (
-        &mut s.origin[..],
-        &mut s.direction[..],
-        &mut s.t_max[..],
-        &mut s.contribution[..],
-    );
-    paths
-        .into_par_iter()
-        .zip(shadow_slots.into_par_iter())
-        .with_min_len(256)
-        .for_each(
-            |(
-                (
-                    hit,
-                    origin,
-                    direction,
-                    throughput,
-                    radiance,
-                    depth,
-                    pass_through,
-                    rng,
-                    pdf,
-                    alive,
-                ),
-                (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
-            )| {
-                if !*alive {
-                    return;
-                }
-                let path = PathSlots {
-                    origin,
-                    direction,
-                    throughput,
-                    radiance,
-                    depth,
-                    pass_through,
-                    rng,
-                    scatter_pdf: pdf,
-                    alive,
-                };
-                if let Some(ray) = shade_vertex(&scene, hit.as_ref(), path) {
-                    *shadow_origin = ray.origin;
-                    *shadow_direction = ray.direction;
-                    *shadow_t_max = ray.t_max;
-                    *shadow_contribution = ray.contribution;
-                }
-            },
-        );
 }
 
 fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option<ShadowRay> {

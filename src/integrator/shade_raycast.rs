@@ -8,17 +8,13 @@ use std::f32::consts::PI;
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use rayon::prelude::*;
 
-use super::batch::{HitBatch, PathBatch, ShadowBatch};
-use super::shading::{PathSlots, Scene, ShadowRay, face_forward};
+use super::batch::{PathBatch, ShadowBatch};
+use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::light::LightTable;
-use crate::material::MaterialTable;
-use crate::material::texture::TextureTable;
-use crate::settings::RenderSettings;
-use crate::shape::geometry::{NO_EMITTER, SceneGeometry};
+use crate::shape::geometry::NO_EMITTER;
 use crate::shape::surface::SurfacePoint;
 
 /// The ray caster needs one shadow ray per light at each shaded point.
@@ -26,89 +22,20 @@ pub fn shadow_rays_per_path(lights: &LightTable) -> usize {
     lights.lights.len().max(1)
 }
 
-#[allow(clippy::too_many_arguments)]
 pub fn shade_raycast_hits(
-    geometry: Res<SceneGeometry>,
-    materials: Res<MaterialTable>,
-    textures: Option<Res<TextureTable>>,
-    lights: Res<LightTable>,
-    settings: Res<RenderSettings>,
-    hits: Res<HitBatch>,
+    inputs: ShadingInputs,
     mut batch: ResMut<PathBatch>,
     mut shadows: ResMut<ShadowBatch>,
 ) {
-    let scene = Scene {
-        geometry: &geometry,
-        materials: &materials,
-        textures: textures.as_deref(),
-        lights: &lights,
-        max_depth: settings.max_depth,
-    };
-    let n = batch.len;
-    shadows.clear(n);
-    let k = shadows.rays_per_path;
-    let b = &mut *batch;
-    let s = &mut *shadows;
-    let paths = (
-        &hits.hit[..n],
-        &mut b.origin[..n],
-        &mut b.direction[..n],
-        &mut b.throughput[..n],
-        &mut b.radiance[..n],
-        &mut b.depth[..n],
-        &mut b.pass_through[..n],
-        &mut b.rng[..n],
-        &mut b.scatter_pdf[..n],
-        &mut b.alive[..n],
+    let scene = inputs.scene();
+    shade_live_paths(
+        inputs.hits(),
+        &mut batch,
+        &mut shadows,
+        |hit, path, mut shadow| {
+            shade_hit(&scene, hit, path, |slot, ray| shadow.emit(slot, ray));
+        },
     );
-    let shadow_slots = (
-        s.origin.par_chunks_mut(k),
-        s.direction.par_chunks_mut(k),
-        s.t_max.par_chunks_mut(k),
-        s.contribution.par_chunks_mut(k),
-    );
-    paths
-        .into_par_iter()
-        .zip(shadow_slots.into_par_iter())
-        .with_min_len(64)
-        .for_each(
-            |(
-                (
-                    hit,
-                    origin,
-                    direction,
-                    throughput,
-                    radiance,
-                    depth,
-                    pass_through,
-                    rng,
-                    pdf,
-                    alive,
-                ),
-                (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
-            )| {
-                if !*alive {
-                    return;
-                }
-                let path = PathSlots {
-                    origin,
-                    direction,
-                    throughput,
-                    radiance,
-                    depth,
-                    pass_through,
-                    rng,
-                    scatter_pdf: pdf,
-                    alive,
-                };
-                shade_hit(&scene, hit.as_ref(), path, |slot, ray| {
-                    shadow_origin[slot] = ray.origin;
-                    shadow_direction[slot] = ray.direction;
-                    shadow_t_max[slot] = ray.t_max;
-                    shadow_contribution[slot] = ray.contribution;
-                });
-            },
-        );
 }
 
 fn shade_hit(

@@ -1,18 +1,51 @@
 //! What both shading stages share: the scene they read, a path's slots, its shadow ray.
 
+use bevy_ecs::prelude::*;
+use bevy_ecs::system::SystemParam;
 use glam::Vec3;
+use rayon::prelude::*;
 
+use super::batch::{HitBatch, PathBatch, ShadowBatch};
+use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
 use crate::math::offset_ray_origin;
 use crate::sampling::PathRng;
+use crate::settings::RenderSettings;
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
 
 /// Chains of pass-through (null material) surfaces longer than this end the path.
 pub const MAX_PASS_THROUGH: u32 = 64;
+
+/// What a shading stage reads, as one system parameter.
+#[derive(SystemParam)]
+pub struct ShadingInputs<'w> {
+    geometry: Res<'w, SceneGeometry>,
+    materials: Res<'w, MaterialTable>,
+    textures: Option<Res<'w, TextureTable>>,
+    lights: Res<'w, LightTable>,
+    settings: Res<'w, RenderSettings>,
+    hits: Res<'w, HitBatch>,
+}
+
+impl ShadingInputs<'_> {
+    pub fn scene(&self) -> Scene<'_> {
+        Scene {
+            geometry: &self.geometry,
+            materials: &self.materials,
+            textures: self.textures.as_deref(),
+            lights: &self.lights,
+            max_depth: self.settings.max_depth,
+        }
+    }
+
+    pub fn hits(&self) -> &[Option<Hit>] {
+        &self.hits.hit
+    }
+}
 
 /// The read-only scene a shading stage sees.
 pub struct Scene<'a> {
@@ -65,6 +98,87 @@ impl PathSlots<'_> {
             *self.alive = false;
         }
     }
+}
+
+/// One path's shadow-ray slots.
+pub struct ShadowSlots<'a> {
+    origin: &'a mut [Vec3],
+    direction: &'a mut [Vec3],
+    t_max: &'a mut [f32],
+    contribution: &'a mut [Vec3],
+}
+
+impl ShadowSlots<'_> {
+    /// Puts `ray` in slot `slot` (slots left alone stay empty).
+    pub fn emit(&mut self, slot: usize, ray: ShadowRay) {
+        self.origin[slot] = ray.origin;
+        self.direction[slot] = ray.direction;
+        self.t_max[slot] = ray.t_max;
+        self.contribution[slot] = ray.contribution;
+    }
+}
+
+/// Runs `shade` on every live path, in parallel, with its hit, its slots and its (emptied)
+/// shadow-ray slots.
+pub fn shade_live_paths(
+    hits: &[Option<Hit>],
+    batch: &mut PathBatch,
+    shadows: &mut ShadowBatch,
+    shade: impl Fn(Option<&Hit>, PathSlots, ShadowSlots) + Sync,
+) {
+    let n = batch.len;
+    shadows.clear(n);
+    let k = shadows.rays_per_path;
+    let paths = (
+        &hits[..n],
+        &mut batch.origin[..n],
+        &mut batch.direction[..n],
+        &mut batch.throughput[..n],
+        &mut batch.radiance[..n],
+        &mut batch.depth[..n],
+        &mut batch.pass_through[..n],
+        &mut batch.rng[..n],
+        &mut batch.scatter_pdf[..n],
+        &mut batch.alive[..n],
+    );
+    let shadow_slots = (
+        shadows.origin.par_chunks_mut(k),
+        shadows.direction.par_chunks_mut(k),
+        shadows.t_max.par_chunks_mut(k),
+        shadows.contribution.par_chunks_mut(k),
+    );
+    paths
+        .into_par_iter()
+        .zip(shadow_slots.into_par_iter())
+        .with_min_len(128)
+        .for_each(
+            |(
+                (hit, origin, direction, throughput, radiance, depth, through, rng, pdf, alive),
+                (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
+            )| {
+                if !*alive {
+                    return;
+                }
+                let path = PathSlots {
+                    origin,
+                    direction,
+                    throughput,
+                    radiance,
+                    depth,
+                    pass_through: through,
+                    rng,
+                    scatter_pdf: pdf,
+                    alive,
+                };
+                let shadow = ShadowSlots {
+                    origin: shadow_origin,
+                    direction: shadow_direction,
+                    t_max: shadow_t_max,
+                    contribution: shadow_contribution,
+                };
+                shade(hit.as_ref(), path, shadow);
+            },
+        );
 }
 
 /// A shadow ray to test and the radiance it carries if unoccluded.
