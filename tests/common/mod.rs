@@ -204,6 +204,15 @@ pub fn render(desc: SceneDesc, options: &RenderOptions) -> Vec<Vec3> {
     renderer.image()
 }
 
+/// Renders and returns the film itself: its sample counts as well as its image (the film drops
+/// NaN, infinite and negative samples, so only its rejection count reveals them).
+pub fn render_film(desc: SceneDesc, options: &RenderOptions) -> foton::film::Film {
+    let (world, _) = build_world(desc, options);
+    let mut renderer = Renderer::new(world);
+    renderer.render(|_| {});
+    renderer.world.resource::<foton::film::Film>().clone()
+}
+
 pub fn options(spp: u32, max_depth: u32) -> RenderOptions {
     RenderOptions {
         samples_per_pixel: Some(spp),
