@@ -209,7 +209,7 @@ pub fn render(desc: SceneDesc, options: &RenderOptions) -> Vec<Vec3> {
 pub fn render_film(desc: SceneDesc, options: &RenderOptions) -> foton::film::Film {
     let (world, _) = build_world(desc, options);
     let mut renderer = Renderer::new(world);
-    renderer.render(|_| {});
+    renderer.render(|_| true);
     renderer.world.resource::<foton::film::Film>().clone()
 }
 
