@@ -89,7 +89,7 @@ impl PathBatch {
 #[derive(Resource, Default)]
 pub struct HitBatch {
     pub hit: Vec<Option<Hit>>,
-    /// Ray extents for the trace (infinite for every path ray).
+    /// Ray extents for the trace: infinite for a live path, 0 for one that ended.
     pub t_max: Vec<f32>,
 }
 

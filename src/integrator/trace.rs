@@ -1,4 +1,5 @@
-//! The trace stages: closest hits for the path rays, any hits for the shadow rays.
+//! The trace stages: closest hits for the path rays, any hits for the shadow rays, each one
+//! batch call into the BVH.
 
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
@@ -12,37 +13,31 @@ pub fn trace_closest_hits(
     mut hits: ResMut<HitBatch>,
 ) {
     let n = batch.len;
+    let hits = &mut *hits;
     hits.hit.resize(n, None);
-    let accel = &geometry.accel;
-    (
+    hits.t_max.resize(n, 0.0);
+    // A path that ended (a fisheye sample outside the image circle) gets an empty extent.
+    (&batch.alive[..n], &mut hits.t_max[..n])
+        .into_par_iter()
+        .with_min_len(4096)
+        .for_each(|(alive, t_max)| *t_max = if *alive { f32::INFINITY } else { 0.0 });
+    geometry.accel.closest_hits(
         &batch.origin[..n],
         &batch.direction[..n],
-        &batch.alive[..n],
+        0.0,
+        &hits.t_max[..n],
         &mut hits.hit[..n],
-    )
-        .into_par_iter()
-        .with_min_len(256)
-        .for_each(|(origin, direction, alive, hit)| {
-            *hit = if *alive {
-                accel.closest_hit(*origin, *direction, 0.0, f32::INFINITY)
-            } else {
-                None
-            };
-        });
+    );
 }
 
 pub fn trace_shadow_rays(geometry: Res<SceneGeometry>, mut shadows: ResMut<ShadowBatch>) {
-    let accel = &geometry.accel;
     let shadows = &mut *shadows;
-    (
-        &shadows.origin[..],
-        &shadows.direction[..],
-        &shadows.t_max[..],
-        &mut shadows.occluded[..],
-    )
-        .into_par_iter()
-        .with_min_len(256)
-        .for_each(|(origin, direction, t_max, occluded)| {
-            *occluded = *t_max > 0.0 && accel.any_hit(*origin, *direction, 0.0, *t_max);
-        });
+    // Empty slots have t_max 0 and are skipped.
+    geometry.accel.any_hits(
+        &shadows.origin,
+        &shadows.direction,
+        0.0,
+        &shadows.t_max,
+        &mut shadows.occluded,
+    );
 }
