@@ -231,19 +231,24 @@ def contact_sheet(results: list[Result], originals: Path, title: str, full: bool
 
 
 def write_markdown(path: Path, table: str, args: argparse.Namespace, full: bool,
-                   command: str) -> None:
+                   command: str, load: float) -> None:
     """Write docs/report-tables.md: the settings, the command, the table and the notes."""
-    settings = (
-        "the original's settings (1,600 spp, original resolution)" if full else
-        f"reduced settings: {args.spp} spp, resolution x{args.scale:g}; the projected column "
-        "scales foton's time to the original's work assuming time linear in pixels x spp"
-    )
+    if full:
+        settings = f"the original's settings: {FULL_SPP} spp at the original resolution"
+        projection = ""
+    else:
+        settings = (f"reduced settings: {args.spp} spp (original: {FULL_SPP}) at {args.scale:g} "
+                    "times the original resolution")
+        projection = ("\n- The projected column scales foton's time to the original's work, "
+                      "assuming time linear in pixels x spp; the speed-up uses it.")
     text = f"""# The original report's tables, redone with foton
 
-Rendered with {settings}, maximum depth {MAX_DEPTH}, on {os.cpu_count()} cores
-(threads: {args.threads or "all"}). Times are foton's own reported render seconds; the
-original's are from its final report (Java, on the authors' machine, which is unknown), so the
-speed-up is indicative only.
+- Rendered with {settings}, maximum depth {MAX_DEPTH}.
+- Machine: {os.cpu_count()} cores, foton threads: {args.threads or "all"}, load average
+  {load:.1f} when the run started. Times are foton's own reported render seconds.
+- The original's times are from its final report (Java, on the authors' unknown machine), so
+  the speed-ups are indicative only.{projection}
+- {SUBSTITUTE_NOTE}
 
 Command:
 
@@ -252,8 +257,6 @@ Command:
 ```
 
 {table}
-
-{SUBSTITUTE_NOTE}
 
 ![foton (left) beside the original (right)](images/report-tables.jpg)
 """
@@ -270,13 +273,15 @@ def main() -> None:
     originals = shared / "seed" / "final-images"
     for shot in SHOTS:
         require_file(originals / shot.original_image, "the original's image")
+    load = os.getloadavg()[0]
     results = [render_shot(shot, scene, args) for shot in SHOTS]
     full = is_full(args)
     table = markdown_table(results, full)
     label = "original settings" if full else f"{args.spp} spp, scale {args.scale:g}"
     contact_sheet(results, originals, f"The original report's series, redone with foton ({label})",
                   full, args.docs / "images" / "report-tables.jpg")
-    write_markdown(args.docs / "report-tables.md", table, args, full, display_command(sys.argv))
+    write_markdown(args.docs / "report-tables.md", table, args, full, display_command(sys.argv),
+                   load)
     print(table)
     print()
     print(SUBSTITUTE_NOTE)

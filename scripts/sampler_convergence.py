@@ -2,10 +2,11 @@
 
 Renders metal2_scene/untitled.lxs through a thin lens (the lens blur dominates the image) as a
 high-spp multi-jittered reference with its own seed, then with each sampler (independent,
-stratified, multi-jittered) at 1, 2, 4, ... spp for a few seeds, and measures the RMSE of the
-linear radiance (foton's .exr output) against the reference and foton's render time. Writes:
+stratified, multi-jittered) at 1, 2, 4, ... spp for a few seeds, and measures against the
+reference the RMSE of the linear radiance (foton's .exr output) and the median relative squared
+error (robust to fireflies), and foton's render time. Writes:
 
-- docs/images/sampler-convergence.png: RMSE against spp and against time, log-log;
+- docs/images/sampler-convergence.png: the errors against spp and against time, log-log;
 - docs/sampler-convergence.md: the numbers, the ranking and the exact command;
 - the same table in Markdown on stdout.
 """
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,17 +40,16 @@ class Point:
     sampler: str
     spp: int
     rmse: float
-    rel_mse: float
+    median_rel_se: float
     seconds: float
 
 
-# The two error measures: (attribute of Point, axis label, format in the table).
+# The two error measures: (attribute of Point, label, short label, format in the table).
 METRICS = (
-    ("rmse", "RMSE of linear radiance", "{:.4f}"),
-    ("rel_mse", "trimmed relative MSE", "{:.5f}"),
+    ("rmse", "RMSE of linear radiance", "RMSE", "{:.4f}"),
+    ("median_rel_se", "median relative squared error", "median rel. SE", "{:.6f}"),
 )
-REL_MSE_EPSILON = 0.01  # Keeps dark pixels from dominating the relative MSE.
-TRIMMED_FRACTION = 0.01  # The relative MSE leaves out this fraction of worst pixels.
+RELATIVE_EPSILON = 0.01  # Keeps dark pixels from dominating the relative error.
 
 
 def parse_args() -> argparse.Namespace:
@@ -119,26 +120,25 @@ def measure(scene: Path, reference: np.ndarray, args: argparse.Namespace) -> lis
                 ]))
                 error = (read_exr(output) - reference) ** 2
                 squared.append(float(np.mean(error)))
-                relative.append(trimmed_relative_mse(error, reference))
+                relative.append(median_relative_squared_error(error, reference))
             point = Point(sampler, spp, math.sqrt(np.mean(squared)), float(np.mean(relative)),
                           float(np.mean(times)))
-            print(f"{sampler:>14} {spp:>5} spp: RMSE {point.rmse:.4f}, relative MSE "
-                  f"{point.rel_mse:.5f}, {point.seconds:.2f} s", file=sys.stderr, flush=True)
+            print(f"{sampler:>14} {spp:>5} spp: RMSE {point.rmse:.4f}, median relative "
+                  f"squared error {point.median_rel_se:.6f}, {point.seconds:.2f} s", file=sys.stderr, flush=True)
             points.append(point)
     return points
 
 
-def trimmed_relative_mse(error: np.ndarray, reference: np.ndarray) -> float:
-    """The relative MSE, (x - ref)^2 / (ref^2 + epsilon) averaged over channels and pixels,
-    leaving out the TRIMMED_FRACTION of pixels with the largest error: rare very bright
-    paths (fireflies) in dark pixels would otherwise decide it alone."""
-    per_pixel = np.sort(np.mean(error / (reference**2 + REL_MSE_EPSILON), axis=2), axis=None)
-    return float(np.mean(per_pixel[: max(1, int(len(per_pixel) * (1 - TRIMMED_FRACTION)))]))
+def median_relative_squared_error(error: np.ndarray, reference: np.ndarray) -> float:
+    """The median over pixels of (x - ref)^2 / (ref^2 + epsilon), averaged over channels:
+    the typical pixel's error, which the rare very bright paths (fireflies) that dominate
+    any mean over pixels do not decide."""
+    return float(np.median(np.mean(error / (reference**2 + RELATIVE_EPSILON), axis=2)))
 
 
 def slope(points: list[Point], metric: str) -> float:
     """The least-squares slope of log `metric` against log spp, from 4 spp up (Monte Carlo's
-    1/N is -0.5 for the RMSE and -1 for the relative MSE; steeper is better)."""
+    1/N is -0.5 for the RMSE and -1 for a squared error; steeper is better)."""
     fitted = [p for p in points if p.spp >= 4]
     values = [getattr(p, metric) for p in fitted]
     return float(np.polyfit(np.log([p.spp for p in fitted]), np.log(values), 1)[0])
@@ -155,7 +155,7 @@ def chart(points: list[Point], title: str, output: Path) -> None:
     sampler, with Monte Carlo's 1/N rate as a dotted guide."""
     figure, grid = plt.subplots(len(METRICS), 2, figsize=(11, 4.2 * len(METRICS)))
     groups = by_sampler(points)
-    for (metric, label, _), (by_spp, by_time) in zip(METRICS, grid):
+    for (metric, label, _, _), (by_spp, by_time) in zip(METRICS, grid):
         for sampler, series in groups.items():
             values = [getattr(p, metric) for p in series]
             by_spp.loglog([p.spp for p in series], values, "o-",
@@ -184,18 +184,18 @@ def markdown_table(points: list[Point]) -> str:
     with the fitted slopes in the last row."""
     groups = by_sampler(points)
     header = ["spp"]
-    for _, label, _ in METRICS:
-        header += [f"{s} {label}" for s in SAMPLERS]
-    header += [f"{s} time (s)" for s in SAMPLERS]
+    for _, _, short, _ in METRICS:
+        header += [f"{s} {short}" for s in SAMPLERS]
+    header += [f"{s} s" for s in SAMPLERS]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for row in zip(*groups.values()):
         cells = [str(row[0].spp)]
-        for metric, _, form in METRICS:
+        for metric, _, _, form in METRICS:
             cells += [form.format(getattr(p, metric)) for p in row]
         cells += [f"{p.seconds:.2f}" for p in row]
         lines.append("| " + " | ".join(cells) + " |")
     slopes = ["slope from 4 spp"]
-    for metric, _, _ in METRICS:
+    for metric, _, _, _ in METRICS:
         slopes += [f"{slope(g, metric):.2f}" for g in groups.values()]
     slopes += [""] * len(SAMPLERS)
     lines.append("| " + " | ".join(slopes) + " |")
@@ -207,7 +207,7 @@ def conclusion(points: list[Point]) -> str:
     measure, with the ratios to the others."""
     top = max(p.spp for p in points)
     sentences = []
-    for metric, label, _ in METRICS:
+    for metric, label, _, _ in METRICS:
         final = sorted((p for p in points if p.spp == top), key=lambda p: getattr(p, metric))
         best = final[0]
         ratios = " and ".join(
@@ -235,15 +235,14 @@ Command:
 {table}
 
 The RMSE is over all pixels and channels of the linear radiance, with the mean squared error
-averaged over the seeds before the square root; the trimmed relative MSE is the mean over pixels of
-(x - ref)^2 / (ref^2 + 0.01) (averaged over channels) without the 1% of pixels with the largest
-error, averaged over the seeds. The RMSE is dominated by the brightest pixels (the light's
-reflections in the metal spheres) and by rare very bright paths (fireflies), which no pixel
-sampler removes: the samplers only place the film and lens samples. The trimmed relative MSE
-weighs every pixel alike and leaves those fireflies out, so it shows the lens sampling.
-Times are foton's own reported render seconds,
-averaged over the seeds. The reference's own noise puts a small floor under the error at the
-highest spp.
+averaged over the seeds before the square root. It is dominated by rare very bright paths
+(fireflies: the floor lit through the mirror spheres by the small light), which no pixel sampler
+removes, since the samplers only place the film and lens samples. The median relative squared
+error, the median over pixels of (x - ref)^2 / (ref^2 + 0.01) averaged over channels (then over
+the seeds), is the typical pixel's error, which those fireflies do not decide, so it shows the
+film and lens sampling better. Times are foton's own reported render seconds, averaged over the
+seeds; the machine's load makes them noisy. The reference's own noise puts a small floor under
+the error at the highest spp.
 
 ![RMSE against spp and against time](images/sampler-convergence.png)
 """
@@ -259,7 +258,9 @@ def main() -> None:
         f"Scene: metal2_scene/untitled.lxs through a thin lens (focal distance "
         f"{args.focal_distance:g}, lens radius {args.lens_radius:g}), {args.resolution}, maximum "
         f"depth {args.max_depth}. Reference: multi-jittered, {args.reference_spp} spp, seed "
-        f"{REFERENCE_SEED}. Each point: {args.seeds} seed(s), threads: {args.threads or 'all'}."
+        f"{REFERENCE_SEED}. Each point: {args.seeds} seed(s). Machine: {os.cpu_count()} cores, "
+        f"foton threads: {args.threads or 'all'}, load average {os.getloadavg()[0]:.1f} when the "
+        "run started."
     )
     print(f"rendering the reference ({args.reference_spp} spp)...", file=sys.stderr, flush=True)
     reference_path = args.renders / "reference.exr"
