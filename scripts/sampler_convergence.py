@@ -56,7 +56,11 @@ def parse_args() -> argparse.Namespace:
     """The command-line options."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--resolution", default="240x135", help="image size (default: 240x135)")
-    parser.add_argument("--max-depth", type=int, default=4, help="maximum bounces (default: 4)")
+    parser.add_argument(
+        "--max-depths", type=int, nargs="+", default=[4, 1],
+        help="maximum bounces, one study each (default: 4 1; depth 1 has no caustic paths, so "
+             "the film and lens sampling dominate its noise)",
+    )
     parser.add_argument("--focal-distance", type=float, default=11.0,
                         help="thin lens focal distance (default: 11)")
     parser.add_argument("--lens-radius", type=float, default=2.0,
@@ -92,11 +96,11 @@ def spp_levels(max_spp: int) -> list[int]:
     return [2**k for k in range(int(math.log2(max_spp)) + 1)]
 
 
-def common_options(args: argparse.Namespace) -> list[str]:
-    """The foton options that every render of the study shares: the scene's lens and size."""
+def common_options(args: argparse.Namespace, depth: int) -> list[str]:
+    """The foton options that every render of a study shares: the lens, size and depth."""
     options = [
         "--resolution", args.resolution,
-        "--max-depth", str(args.max_depth),
+        "--max-depth", str(depth),
         "--camera", "thin-lens",
         "--focal-distance", f"{args.focal_distance:g}",
         "--lens-radius", f"{args.lens_radius:g}",
@@ -106,16 +110,25 @@ def common_options(args: argparse.Namespace) -> list[str]:
     return options
 
 
-def measure(scene: Path, reference: np.ndarray, args: argparse.Namespace) -> list[Point]:
-    """Render every (sampler, spp, seed) and return one Point per (sampler, spp)."""
+def study(scene: Path, args: argparse.Namespace, depth: int) -> list[Point]:
+    """Render the reference, then every (sampler, spp, seed), all at maximum depth `depth`;
+    return one Point per (sampler, spp)."""
+    folder = args.renders / f"depth{depth}"
+    print(f"depth {depth}: rendering the reference ({args.reference_spp} spp)...",
+          file=sys.stderr, flush=True)
+    render(scene, folder / "reference.exr", [
+        *common_options(args, depth), "--sampler", "multi-jittered",
+        "--spp", str(args.reference_spp), "--seed", str(REFERENCE_SEED),
+    ])
+    reference = read_exr(folder / "reference.exr")
     points = []
     for sampler in SAMPLERS:
         for spp in spp_levels(args.max_spp):
             squared, relative, times = [], [], []
             for seed in range(args.seeds):
-                output = args.renders / f"{sampler}-{spp}spp-seed{seed}.exr"
+                output = folder / f"{sampler}-{spp}spp-seed{seed}.exr"
                 times.append(render(scene, output, [
-                    *common_options(args), "--sampler", sampler, "--spp", str(spp),
+                    *common_options(args, depth), "--sampler", sampler, "--spp", str(spp),
                     "--seed", str(seed),
                 ]))
                 error = (read_exr(output) - reference) ** 2
@@ -123,8 +136,9 @@ def measure(scene: Path, reference: np.ndarray, args: argparse.Namespace) -> lis
                 relative.append(median_relative_squared_error(error, reference))
             point = Point(sampler, spp, math.sqrt(np.mean(squared)), float(np.mean(relative)),
                           float(np.mean(times)))
-            print(f"{sampler:>14} {spp:>5} spp: RMSE {point.rmse:.4f}, median relative "
-                  f"squared error {point.median_rel_se:.6f}, {point.seconds:.2f} s", file=sys.stderr, flush=True)
+            print(f"depth {depth} {sampler:>14} {spp:>4} spp: RMSE {point.rmse:.4f}, median "
+                  f"relative squared error {point.median_rel_se:.6f}, {point.seconds:.2f} s",
+                  file=sys.stderr, flush=True)
             points.append(point)
     return points
 
@@ -150,32 +164,37 @@ def by_sampler(points: list[Point]) -> dict[str, list[Point]]:
             for s in SAMPLERS}
 
 
-def chart(points: list[Point], title: str, output: Path) -> None:
+def chart(studies: dict[int, list[Point]], title: str, output: Path) -> None:
     """Plot each error measure against spp and against render time, log-log, one line per
-    sampler, with Monte Carlo's 1/N rate as a dotted guide."""
-    figure, grid = plt.subplots(len(METRICS), 2, figsize=(11, 4.2 * len(METRICS)))
-    groups = by_sampler(points)
-    for (metric, label, _, _), (by_spp, by_time) in zip(METRICS, grid):
-        for sampler, series in groups.items():
-            values = [getattr(p, metric) for p in series]
-            by_spp.loglog([p.spp for p in series], values, "o-",
-                          label=f"{sampler} (slope {slope(series, metric):.2f})")
-            by_time.loglog([p.seconds for p in series], values, "o-", label=sampler)
-        first = groups["independent"]
-        power = 0.5 if metric == "rmse" else 1.0
-        start = getattr(first[0], metric)
-        by_spp.loglog([p.spp for p in first], [start / p.spp**power for p in first], "k:",
-                      label="1/sqrt(spp)" if metric == "rmse" else "1/spp")
-        by_spp.set(xlabel="samples per pixel", ylabel=label, title=f"{label} against spp")
-        by_time.set(xlabel="foton render time (s)", ylabel=label,
-                    title=f"{label} against render time")
-        for axes in (by_spp, by_time):
-            axes.grid(True, which="both", alpha=0.3)
-            axes.legend(fontsize="small")
+    sampler and one row per maximum depth, with Monte Carlo's rate as a dotted guide."""
+    figure, grid = plt.subplots(len(studies), 2 * len(METRICS),
+                                figsize=(5 * 2 * len(METRICS), 4.2 * len(studies)),
+                                squeeze=False)
+    for (depth, points), row in zip(studies.items(), grid):
+        groups = by_sampler(points)
+        for index, (metric, label, _, _) in enumerate(METRICS):
+            by_spp, by_time = row[2 * index], row[2 * index + 1]
+            for sampler, series in groups.items():
+                values = [getattr(p, metric) for p in series]
+                by_spp.loglog([p.spp for p in series], values, "o-",
+                              label=f"{sampler} (slope {slope(series, metric):.2f})")
+                by_time.loglog([p.seconds for p in series], values, "o-", label=sampler)
+            first = groups["independent"]
+            power = 0.5 if metric == "rmse" else 1.0
+            start = getattr(first[0], metric)
+            by_spp.loglog([p.spp for p in first], [start / p.spp**power for p in first], "k:",
+                          label="1/sqrt(spp)" if metric == "rmse" else "1/spp")
+            by_spp.set(xlabel="samples per pixel", ylabel=label,
+                       title=f"depth {depth}: {label}\nagainst spp")
+            by_time.set(xlabel="foton render time (s)", ylabel=label,
+                        title=f"depth {depth}: {label}\nagainst render time")
+            for axes in (by_spp, by_time):
+                axes.grid(True, which="both", alpha=0.3)
+                axes.legend(fontsize="small")
     figure.suptitle(title)
     figure.tight_layout()
     output.parent.mkdir(parents=True, exist_ok=True)
-    figure.savefig(output, dpi=90)
+    figure.savefig(output, dpi=80)
     plt.close(figure)
 
 
@@ -217,9 +236,9 @@ def conclusion(points: list[Point]) -> str:
     return " ".join(sentences)
 
 
-def write_markdown(path: Path, table: str, sentence: str, description: str,
-                   command: str) -> None:
-    """Write docs/sampler-convergence.md: the setup, the command, the table, the ranking."""
+def write_markdown(path: Path, sections: list[str], description: str, command: str) -> None:
+    """Write docs/sampler-convergence.md: the setup, the command, one section per depth."""
+    body = "\n\n".join(sections)
     text = f"""# Sampler convergence on a depth-of-field scene
 
 {description}
@@ -230,55 +249,47 @@ Command:
 {command}
 ```
 
-{sentence}
-
-{table}
+{body}
 
 The RMSE is over all pixels and channels of the linear radiance, with the mean squared error
-averaged over the seeds before the square root. It is dominated by rare very bright paths
-(fireflies: the floor lit through the mirror spheres by the small light), which no pixel sampler
-removes, since the samplers only place the film and lens samples. The median relative squared
+averaged over the seeds before the square root. At depth 4 it is dominated by rare very bright
+paths (fireflies: the floor lit through the mirror spheres by the small light), which no pixel
+sampler removes, since the samplers only place the film and lens samples; at every depth the
+bright reflections of the light in the spheres weigh heavily in it. The median relative squared
 error, the median over pixels of (x - ref)^2 / (ref^2 + 0.01) averaged over channels (then over
-the seeds), is the typical pixel's error, which those fireflies do not decide, so it shows the
-film and lens sampling better. Times are foton's own reported render seconds, averaged over the
+the seeds), is the typical pixel's error, so it shows the film and lens sampling better; at
+depth 4 even the typical pixel converges slower than 1/spp, since the rare bright paths make
+its estimate skewed. Depth 1 (direct light only) has no such paths: there the film and lens
+sampling dominate the noise. Times are foton's own reported render seconds, averaged over the
 seeds; the machine's load makes them noisy. The reference's own noise puts a small floor under
 the error at the highest spp.
 
-![RMSE against spp and against time](images/sampler-convergence.png)
+![The errors against spp and against time](images/sampler-convergence.png)
 """
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text)
 
 
 def main() -> None:
-    """Render the reference and the series, then write the chart, the Markdown and the table."""
+    """Run the study at each depth, then write the chart, the Markdown and the tables."""
     args = parse_args()
     scene = require_file(shared_scenes() / "metal2_scene" / "untitled.lxs", "the metal2 scene")
     description = (
         f"Scene: metal2_scene/untitled.lxs through a thin lens (focal distance "
-        f"{args.focal_distance:g}, lens radius {args.lens_radius:g}), {args.resolution}, maximum "
-        f"depth {args.max_depth}. Reference: multi-jittered, {args.reference_spp} spp, seed "
-        f"{REFERENCE_SEED}. Each point: {args.seeds} seed(s). Machine: {os.cpu_count()} cores, "
-        f"foton threads: {args.threads or 'all'}, load average {os.getloadavg()[0]:.1f} when the "
-        "run started."
+        f"{args.focal_distance:g}, lens radius {args.lens_radius:g}), {args.resolution}. "
+        f"Reference: multi-jittered, {args.reference_spp} spp, seed {REFERENCE_SEED}. Each "
+        f"point: {args.seeds} seed(s). Machine: {os.cpu_count()} cores, foton threads: "
+        f"{args.threads or 'all'}, load average {os.getloadavg()[0]:.1f} when the run started."
     )
-    print(f"rendering the reference ({args.reference_spp} spp)...", file=sys.stderr, flush=True)
-    reference_path = args.renders / "reference.exr"
-    render(scene, reference_path, [
-        *common_options(args), "--sampler", "multi-jittered",
-        "--spp", str(args.reference_spp), "--seed", str(REFERENCE_SEED),
-    ])
-    points = measure(scene, read_exr(reference_path), args)
-    table = markdown_table(points)
-    sentence = conclusion(points)
-    chart(points, f"metal2_scene, thin lens fd {args.focal_distance:g} lr "
-                  f"{args.lens_radius:g}, {args.resolution}; reference "
-                  f"{args.reference_spp} spp", args.docs / "images" / "sampler-convergence.png")
-    write_markdown(args.docs / "sampler-convergence.md", table, sentence, description,
+    studies = {depth: study(scene, args, depth) for depth in args.max_depths}
+    sections = [f"## Maximum depth {depth}\n\n{conclusion(points)}\n\n{markdown_table(points)}"
+                for depth, points in studies.items()]
+    chart(studies, f"metal2_scene, thin lens fd {args.focal_distance:g} lr "
+                   f"{args.lens_radius:g}, {args.resolution}; reference {args.reference_spp} spp",
+          args.docs / "images" / "sampler-convergence.png")
+    write_markdown(args.docs / "sampler-convergence.md", sections, description,
                    display_command(sys.argv))
-    print(table)
-    print()
-    print(sentence)
+    print("\n\n".join(sections))
 
 
 if __name__ == "__main__":
