@@ -21,7 +21,14 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from foton_common import REPO, display_command, fail, render, require_file, shared_root
+from foton_common import (
+    REPO,
+    display_command,
+    foton_binary,
+    render,
+    require_file,
+    shared_root,
+)
 
 from PIL import Image, ImageDraw, ImageFont
 
@@ -214,7 +221,8 @@ def contact_sheet(results: list[Result], originals: Path, title: str, full: bool
             with Image.open(path) as image:
                 tile = fit(image, SHEET_CELL)
             left = margin + column * (cell_w + gap)
-            sheet.paste(tile, (left + (cell_w - tile.width) // 2, top + (cell_h - tile.height) // 2))
+            offset = ((cell_w - tile.width) // 2, (cell_h - tile.height) // 2)
+            sheet.paste(tile, (left + offset[0], top + offset[1]))
         width_px, height_px = result.resolution
         draw.text((margin, top + cell_h + 4),
                   f"{shot.name}: {shot.settings}; foton {width_px}x{height_px}, "
@@ -244,10 +252,10 @@ def write_markdown(path: Path, table: str, args: argparse.Namespace, full: bool,
     text = f"""# The original report's tables, redone with foton
 
 - Rendered with {settings}, maximum depth {MAX_DEPTH}.
-- Machine: {os.cpu_count()} cores, foton threads: {args.threads or "all"}, load average
-  {load:.1f} when the run started. Times are foton's own reported render seconds.
-- The original's times are from its final report (Java, on the authors' unknown machine), so
-  the speed-ups are indicative only.{projection}
+- Machine: {os.cpu_count()} cores, foton threads: {args.threads or "all"}, load average {load:.1f}
+  when the run started. Times are foton's own reported render seconds.
+- The original's times are from its final report (Java, on the authors' unknown machine), so the
+  speed-ups are indicative only.{projection}
 - {SUBSTITUTE_NOTE}
 
 Command:
@@ -267,6 +275,7 @@ Command:
 def main() -> None:
     """Render the series, write the contact sheet and the Markdown, print the table."""
     args = parse_args()
+    foton_binary()
     shared = shared_root()
     scene = require_file(shared / "scenes" / "itba" / "metal2_scene" / "untitled.lxs",
                          "the metal2 scene")

@@ -20,7 +20,15 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from foton_common import REPO, display_command, read_exr, render, require_file, shared_scenes
+from foton_common import (
+    REPO,
+    display_command,
+    foton_binary,
+    read_exr,
+    render,
+    require_file,
+    shared_scenes,
+)
 
 import matplotlib
 
@@ -47,7 +55,7 @@ class Point:
 # The two error measures: (attribute of Point, label, short label, format in the table).
 METRICS = (
     ("rmse", "RMSE of linear radiance", "RMSE", "{:.4f}"),
-    ("median_rel_se", "median relative squared error", "median rel. SE", "{:.6f}"),
+    ("median_rel_se", "median relative squared error", "median rel. SE", "{:.2e}"),
 )
 RELATIVE_EPSILON = 0.01  # Keeps dark pixels from dominating the relative error.
 
@@ -273,6 +281,7 @@ the error at the highest spp.
 def main() -> None:
     """Run the study at each depth, then write the chart, the Markdown and the tables."""
     args = parse_args()
+    foton_binary()
     scene = require_file(shared_scenes() / "metal2_scene" / "untitled.lxs", "the metal2 scene")
     description = (
         f"Scene: metal2_scene/untitled.lxs through a thin lens (focal distance "
