@@ -268,7 +268,9 @@ error, the median over pixels of (x - ref)^2 / (ref^2 + 0.01) averaged over chan
 the seeds), is the typical pixel's error, so it shows the film and lens sampling better; at
 depth 4 even the typical pixel converges slower than 1/spp, since the rare bright paths make
 its estimate skewed. Depth 1 (direct light only) has no such paths: there the film and lens
-sampling dominate the noise. Times are foton's own reported render seconds, averaged over the
+sampling dominate the noise. The stratified sampler uses the squarest m x n grid with
+m x n >= spp, so at spp that are not squares (2, 8, 32, 128) some strata stay empty and its
+error steps up; multi-jittered has no such steps. Times are foton's own reported render seconds, averaged over the
 seeds; the machine's load makes them noisy. The reference's own noise puts a small floor under
 the error at the highest spp.
 
