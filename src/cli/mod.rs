@@ -38,14 +38,14 @@ pub struct SceneArgs {
     /// The scene file (.lxs).
     pub scene: PathBuf,
     /// Samples per pixel (the original's -s / -aa).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
     /// Maximum bounces (the original's -tr / -d).
     #[arg(long)]
     pub max_depth: Option<u32>,
     /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub threads: Option<u32>,
     /// Random seed: the same seed gives the same image whatever the thread count.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -53,8 +53,8 @@ pub struct SceneArgs {
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<(u32, u32)>,
     /// Stop after the pass that crosses this many seconds, and write what is done.
-    #[arg(long)]
-    pub time_limit: Option<f64>,
+    #[arg(long, value_parser = parse_in(0.0, f32::MAX))]
+    pub time_limit: Option<f32>,
     #[arg(long, value_enum, default_value_t = IntegratorArg::Path)]
     pub integrator: IntegratorArg,
     #[arg(long, value_enum, default_value_t = SamplerArg::MultiJittered)]
@@ -63,13 +63,13 @@ pub struct SceneArgs {
     #[arg(long, value_enum)]
     pub camera: Option<CameraArg>,
     /// Thin lens: distance to the plane in focus (the original's fd).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_in(1e-4, f32::MAX))]
     pub focal_distance: Option<f32>,
     /// Thin lens: aperture radius (the original's lr); works with any camera.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_in(0.0, f32::MAX))]
     pub lens_radius: Option<f32>,
     /// Fisheye aperture in degrees, 0 to 360 (the original's phi).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_in(0.0, 360.0))]
     pub fisheye_fov: Option<f32>,
     #[arg(long, value_enum, default_value_t = FitArg::Ellipse)]
     pub fisheye_fit: FitArg,
@@ -146,10 +146,7 @@ impl SceneArgs {
                 IntegratorArg::Path => IntegratorKind::PathTracer,
                 IntegratorArg::Raycast => IntegratorKind::RayCaster,
             },
-            time_limit: self
-                .time_limit
-                .filter(|s| s.is_finite() && *s >= 0.0)
-                .map(std::time::Duration::from_secs_f64),
+            time_limit: self.time_limit.map(std::time::Duration::from_secs_f32),
             camera: self.camera.map(|c| match c {
                 CameraArg::Pinhole => CameraKind::Pinhole,
                 CameraArg::ThinLens => CameraKind::ThinLens,
@@ -165,6 +162,17 @@ impl SceneArgs {
                 FitArg::Circle => FisheyeFit::Circle,
             },
         }
+    }
+}
+
+/// A parser for a number in [min, max].
+fn parse_in(min: f32, max: f32) -> impl Fn(&str) -> Result<f32, String> + Clone {
+    move |text| {
+        text.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|v| (min..=max).contains(v))
+            .ok_or_else(|| format!("expected a number from {min} to {max}, got {text:?}"))
     }
 }
 

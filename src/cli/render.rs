@@ -24,7 +24,7 @@ pub fn prepare(args: &SceneArgs) -> Result<Prepared, String> {
     if let Some(threads) = args.threads {
         // Fails only if the pool was built already (a second render in one process).
         let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads.max(1))
+            .num_threads(threads as usize)
             .build_global();
     }
     let desc = lxs::load(&args.scene).map_err(|e| e.to_string())?;
@@ -59,7 +59,7 @@ pub fn run(
         let scale = exposure
             .unwrap_or_else(|| exposure_scale(prepared.film.tonemap, &pixels, prepared.film.gamma));
         write_image(&output, film.width(), film.height(), &pixels, scale)
-            .map_err(|e| format!("error: {}: {e}", output.display()))?;
+            .map_err(|e| format!("error: {e}"))?;
         if film.rejected_samples() > 0 {
             eprintln!(
                 "warning: {} non-finite samples were dropped",
@@ -114,7 +114,7 @@ pub fn render_with_progress(renderer: &mut Renderer) -> RenderStats {
 
 pub fn summary(stats: &RenderStats) -> String {
     format!(
-        "{:.2} s, {} spp, {:.2} M paths/s, {:.2} M rays/s",
+        "{:.3} s, {} spp, {:.2} M paths/s, {:.2} M rays/s",
         stats.elapsed.as_secs_f64(),
         stats.passes,
         stats.paths_per_second() / 1e6,

@@ -32,10 +32,23 @@ impl PixelSampler {
     pub fn new(kind: SamplerKind, samples_per_pixel: u32, seed: u64) -> Self {
         let spp = samples_per_pixel.max(1);
         let root = f64::from(spp).sqrt();
-        // Jittered: the squarest grid with m * n >= spp. CMJ: Kensler's m = floor(sqrt(N)).
         let m = match kind {
+            // Kensler's m = floor(sqrt(N)).
             SamplerKind::MultiJittered => root.floor() as u32,
-            _ => root.ceil() as u32,
+            // Jittered: a grid of exactly spp strata where spp factors into one no more than
+            // 2:1 (8 = 4 x 2), else the squarest grid with m * n >= spp, which leaves some
+            // strata empty.
+            _ => {
+                let largest_divisor = (1..=root.floor() as u32)
+                    .rev()
+                    .find(|d| spp.is_multiple_of(*d))
+                    .unwrap_or(1);
+                if spp / largest_divisor <= 2 * largest_divisor {
+                    spp / largest_divisor
+                } else {
+                    root.ceil() as u32
+                }
+            }
         }
         .max(1);
         let n = spp.div_ceil(m);
@@ -197,10 +210,20 @@ mod tests {
 
     #[test]
     fn stratified_one_sample_per_stratum() {
-        for spp in [16, 64, 12, 8] {
+        // Exact grids for squares and counts that factor no more than 2:1 (8 = 4 x 2, 32 = 8 x 4,
+        // 12 = 4 x 3); the squarest covering grid otherwise (7 = 3 x 3 with two strata empty).
+        for (spp, exact) in [
+            (16, true),
+            (64, true),
+            (12, true),
+            (8, true),
+            (32, true),
+            (7, false),
+        ] {
             let sampler = PixelSampler::new(SamplerKind::Stratified, spp, 11);
             let (m, n) = (sampler.m, sampler.n);
-            assert!(m * n >= spp && m.abs_diff(n) <= 1);
+            assert_eq!(m * n == spp, exact, "{spp}: {m} x {n}");
+            assert!(m * n >= spp && m.max(n) <= 2 * m.min(n));
             for pixel in 0..50 {
                 for dim in 0..2 {
                     for epoch in 0..2 {
