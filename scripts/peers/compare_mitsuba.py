@@ -64,8 +64,37 @@ def box_filter_copy(lxs: Path, out_dir: Path) -> Path:
     return path
 
 
+# Image files go through Mitsuba's Bitmap in a child process: in this process, an EXR read or write
+# after an llvm_ad_rgb render hangs for good (a futex wait, seen with Mitsuba 3.9.1 here).
+_IO = """
+import sys, numpy as np, mitsuba as mi
+mi.set_variant("scalar_rgb")
+src, dst = sys.argv[1], sys.argv[2]
+if src.endswith(".npy"):
+    mi.util.write_bitmap(dst, mi.Bitmap(np.ascontiguousarray(np.load(src), dtype=np.float32)))
+else:
+    np.save(dst, np.array(mi.Bitmap(src)))
+"""
+
+
+def _convert(src, dst):
+    sh([sys.executable, "-c", _IO, str(src), str(dst)])
+
+
 def read_exr(path: Path) -> np.ndarray:
-    return np.array(mi.Bitmap(str(path)), dtype=np.float64)[..., :3]
+    npy = path.with_suffix(".npy")
+    _convert(path, npy)
+    img = np.load(npy).astype(np.float64)[..., :3]
+    npy.unlink()
+    return img
+
+
+def write_image(img, path: Path):
+    """EXR: linear float; PNG: sRGB, clamped at 1."""
+    npy = path.parent / (path.name + ".npy")
+    np.save(npy, np.asarray(img, dtype=np.float32))
+    _convert(npy, path)
+    npy.unlink()
 
 
 def foton_render(foton, lxs, out, spp, res, depth, seed):
@@ -82,7 +111,7 @@ def mitsuba_render(xml, spp, res, depth, seed, chunk=256):
     while done < spp:
         n = min(chunk, spp - done)
         scene = mi.load_file(str(xml), spp=str(n), res=str(res), max_depth=str(depth + 1))
-        img = np.array(mi.render(scene, spp=n, seed=seed * 1000 + k), dtype=np.float64)[..., :3]
+        img = np.array(mi.render(scene, spp=n, seed=seed * 1000 + k)).astype(np.float64)[..., :3]
         total = img * n if total is None else total + img * n
         done += n
         k += 1
@@ -96,10 +125,6 @@ def rel_mse(a, b, denom):
 def block_means(img, blocks):
     h, w, _ = img.shape
     return img.reshape(blocks, h // blocks, blocks, w // blocks, 3).mean(axis=(1, 3))
-
-
-def to_png(img, path: Path):
-    mi.util.write_bitmap(str(path), mi.Bitmap(np.ascontiguousarray(img, dtype=np.float32)))
 
 
 def error_image(f, m, block):
@@ -134,8 +159,7 @@ def accuracy(args, foton, name, lxs, xml, out_dir):
         t = time.perf_counter()
         m_halves.append(mitsuba_render(xml, half, args.res, args.max_depth, seed))
         t_m += time.perf_counter() - t
-        mi.util.write_bitmap(str(out_dir / f"mitsuba-{name}-{seed}.exr"),
-                             mi.Bitmap(m_halves[-1].astype(np.float32)))
+        write_image(m_halves[-1], out_dir / f"mitsuba-{name}-{seed}.exr")
     f = 0.5 * (f_halves[0] + f_halves[1])
     m = 0.5 * (m_halves[0] + m_halves[1])
     denom = (0.5 * (f + m)) ** 2 + EPS ** 2
@@ -147,9 +171,9 @@ def accuracy(args, foton, name, lxs, xml, out_dir):
     block_ratio = bf.mean(axis=2) / bm.mean(axis=2)
     worst = np.unravel_index(np.argmax(np.abs(block_ratio - 1)), block_ratio.shape)
     tag = name
-    to_png(f, REPO / f"docs/images/peer-{tag}-foton.png")
-    to_png(m, REPO / f"docs/images/peer-{tag}-mitsuba.png")
-    to_png(error_image(f, m, 8), REPO / f"docs/images/peer-{tag}-error.png")
+    write_image(f, REPO / f"docs/images/peer-{tag}-foton.png")
+    write_image(m, REPO / f"docs/images/peer-{tag}-mitsuba.png")
+    write_image(error_image(f, m, 8), REPO / f"docs/images/peer-{tag}-error.png")
     return {
         "foton_mean": f.mean(axis=(0, 1)), "mitsuba_mean": m.mean(axis=(0, 1)),
         "ratio": f.mean() / m.mean(), "ratio_rgb": f.mean(axis=(0, 1)) / m.mean(axis=(0, 1)),
@@ -178,8 +202,12 @@ def foton_bench(foton, lxs, args):
     out = sh(cmd)
     text = (out.stdout + out.stderr).strip().splitlines()
     last = [l for l in text if l.strip()][-1]
-    m = re.search(r"([0-9.]+)\s*(ms|s)\b", last)
-    seconds = float(m.group(1)) / (1000 if m.group(2) == "ms" else 1)
+    # "median 0.641 M paths/s over 5 runs (min ..., max ...)"
+    m = re.search(r"median\s+([0-9.]+)\s*M paths/s", last)
+    if not m:
+        sys.exit(f"cannot read foton bench's last line: {last!r}")
+    rate = float(m.group(1)) * 1e6
+    seconds = args.res * args.res * args.bench_spp / rate
     return seconds, last, " ".join(shlex.quote(str(c)) for c in cmd).replace(str(REPO) + "/", "")
 
 
