@@ -239,6 +239,17 @@ def rel(q):
     return str(q).replace(str(REPO) + "/", "")
 
 
+NOTES = {
+    "diffuse": "Matched exactly: the same geometry, camera, two-sided Lambertian materials, one-sided light "
+               "(L x gain), light shape transparent to rays (foton `null`, Mitsuba `null` BSDF).",
+    "full": "Glass matched (smooth dielectric, IOR 1.5 in vacuum). The metal is approximated: foton's `metal2` "
+            "is GGX (alpha 0.08), height-correlated Smith, Schlick Fresnel with F0 = Kr; Mitsuba's `principled` "
+            "with metallic 1 has the same GGX and Schlick Fresnel on `base_color` but the separable Smith term. "
+            "foton renders a copy of the scene (`out/peers/cornell-box.lxs`) with the box filter in place of "
+            "its Blackman-Harris, which Mitsuba lacks. Expect agreement except, slightly, on the metal sphere "
+            "and what it reflects.",
+}
+
 REGIONS = {  # pixel boxes (x0, y0, x1, y1) at 256x256, scaled to the resolution
     "back wall": (96, 40, 160, 110), "left (red) wall": (4, 60, 40, 200),
     "right (green) wall": (216, 60, 252, 200), "ceiling": (50, 2, 206, 14),
@@ -256,7 +267,11 @@ def accuracy_section(args, foton, name, out_dir):
     r, c = acc["worst_block"]
     n = acc["blocks"]
     bsz = args.res // n
-    md = [f"## Accuracy: `{rel(SCENES[name][0])}` and `{rel(xml)}`", "",
+    ok = abs(acc["ratio"] - 1) < 0.01 and acc["rel_rmse"] / acc["rel_rmse_noise"] < 1.05
+    verdict = ("**Verdict: agree** (means within 1 %, per-pixel differences at the noise level)." if ok else
+               "**Verdict: differ** (means apart by 1 % or more, or per-pixel differences above the noise): "
+               "see the regions below.")
+    md = [f"## Accuracy: `{rel(SCENES[name][0])}` and `{rel(xml)}`", "", NOTES.get(name, ""), "",
           f"{args.spp} spp each (two halves of {args.spp // 2} spp, seeds 1 and 2), Mitsuba `llvm_ad_rgb`. "
           f"foton took {acc['time_foton']:.1f} s, Mitsuba {acc['time_mitsuba']:.1f} s (with kernel compilation). "
           f"Load before: `{load0}`.", "",
@@ -270,7 +285,7 @@ def accuracy_section(args, foton, name, out_dir):
           f"- What noise alone would give (from each renderer's two halves): {acc['rel_rmse_noise']:.4f}; "
           f"measured / noise = **{acc['rel_rmse'] / acc['rel_rmse_noise']:.3f}** (1 when the two agree "
           "up to noise; a bias raises it).",
-          f"- RMSE / mean radiance: {acc['rmse_over_mean']:.4f}.",
+          f"- RMSE / mean radiance: {acc['rmse_over_mean']:.4f}.", "", verdict, "",
           f"- Mean ratio over {n}x{n} blocks of {bsz}x{bsz} pixels: from {acc['block_ratio'].min():.4f} to "
           f"{acc['block_ratio'].max():.4f}; the furthest from 1 is block row {r}, column {c} "
           f"(pixels x {c * bsz}..{(c + 1) * bsz}, y {r * bsz}..{(r + 1) * bsz}).",
@@ -344,7 +359,8 @@ def main():
     md += [f"foton at commit {commit}; Mitsuba {mi.__version__} (PyPI); {os.cpu_count()} cores ({cpu}).",
            f"{args.res}x{args.res} pixels, foton `--max-depth {args.max_depth}` = Mitsuba `max_depth` "
            f"{args.max_depth + 1} (both: {args.max_depth} bounces; 1 would be direct light only), "
-           "box filter one pixel wide, foton's default sampler, Mitsuba's `independent`.",
+           "box filter one pixel wide, foton's default sampler (correlated multi-jittered), Mitsuba's `independent`. "
+           "Russian roulette differs (foton after 2 bounces, Mitsuba after 5): it changes the noise, not the mean.",
            "", "Reproduce: `bash scripts/peers/setup.sh && cargo build --release && "
            f".venv-peers/bin/python scripts/peers/compare_mitsuba.py {argv}`", ""]
     if not args.no_accuracy:
