@@ -41,6 +41,8 @@ REPO = Path(__file__).resolve().parents[2]
 SCENES = {
     "diffuse": (REPO / "scenes/cornell-diffuse.lxs", REPO / "scripts/peers/cornell-diffuse.xml"),
     "full": (REPO / "scenes/cornell.lxs", REPO / "scripts/peers/cornell.xml"),
+    # cornell.lxs with the metal sphere made white matte: the glass alone, matched exactly.
+    "glass": (REPO / "scenes/cornell.lxs", REPO / "scripts/peers/cornell.xml"),
 }
 EPS = 1e-2  # the relative error's floor, in units of radiance, for dark pixels
 
@@ -146,18 +148,18 @@ def error_image(f, m, block):
     return np.clip(out, 0, 1) ** 2.2  # sRGB-ish back to linear, so the PNG shows the colours above
 
 
-def accuracy(args, foton, name, lxs, xml, out_dir):
+def accuracy(args, foton, name, lxs, xml, out_dir, depth):
     half = args.spp // 2
     f_halves, m_halves, f_cmds = [], [], []
     t_f = t_m = 0.0
     for seed in (1, 2):
         exr = out_dir / f"foton-{name}-{seed}.exr"
-        dt, cmd = foton_render(foton, lxs, exr, half, args.res, args.max_depth, seed)
+        dt, cmd = foton_render(foton, lxs, exr, half, args.res, depth, seed)
         t_f += dt
         f_cmds.append(" ".join(shlex.quote(str(c)) for c in cmd).replace(str(REPO) + "/", ""))
         f_halves.append(read_exr(exr))
         t = time.perf_counter()
-        m_halves.append(mitsuba_render(xml, half, args.res, args.max_depth, seed))
+        m_halves.append(mitsuba_render(xml, half, args.res, depth, seed))
         t_m += time.perf_counter() - t
         write_image(m_halves[-1], out_dir / f"mitsuba-{name}-{seed}.exr")
     f = 0.5 * (f_halves[0] + f_halves[1])
@@ -181,18 +183,22 @@ def accuracy(args, foton, name, lxs, xml, out_dir):
         "rmse_over_mean": float(np.sqrt(np.mean((f - m) ** 2)) / m.mean()),
         "block_ratio": block_ratio, "worst_block": worst, "blocks": blocks,
         "time_foton": t_f, "time_mitsuba": t_m, "foton_cmds": f_cmds,
-        "f": f, "m": m,
+        "f": f, "m": m, "f_halves": f_halves, "m_halves": m_halves,
     }
 
 
 def region_report(acc, regions):
-    """Mean-luminance ratio foton / Mitsuba over named pixel boxes (x0, y0, x1, y1)."""
+    """Mean-luminance ratio foton / Mitsuba over named pixel boxes (x0, y0, x1, y1), and the difference in
+    standard errors (z), each pixel's variance estimated from its two halves, pixels independent."""
     lum = np.array([0.2126, 0.7152, 0.0722])
     lines = []
     for name, (x0, y0, x1, y1) in regions.items():
-        a = acc["f"][y0:y1, x0:x1] @ lum
-        b = acc["m"][y0:y1, x0:x1] @ lum
-        lines.append(f"| {name} | {x0}..{x1} x {y0}..{y1} | {a.mean():.4f} | {b.mean():.4f} | {a.mean() / b.mean():.4f} |")
+        box = np.s_[y0:y1, x0:x1]
+        a, b = acc["f"][box] @ lum, acc["m"][box] @ lum
+        var = sum(((h1[box] - h2[box]) @ lum) ** 2 / 4 for h1, h2 in (acc["f_halves"], acc["m_halves"]))
+        z = (a.mean() - b.mean()) / (np.sqrt(var.sum()) / a.size)
+        lines.append(f"| {name} | {x0}..{x1} x {y0}..{y1} | {a.mean():.4f} | {b.mean():.4f} | "
+                     f"{a.mean() / b.mean():.4f} | {z:+.1f} |")
     return lines
 
 
@@ -229,9 +235,20 @@ def mitsuba_times(variant, xml, args, runs, warmup):
 
 
 def scene_files(name, out_dir):
+    """The scene pair to render: the files themselves, or copies in out_dir changed as `name` says."""
     lxs, xml = SCENES[name]
-    if name == "full":
+    if name in ("full", "glass"):
         lxs = box_filter_copy(lxs, out_dir)
+    if name == "glass":
+        text = lxs.read_text()
+        text, count = re.subn(r'^NamedMaterial "metal"', 'NamedMaterial "white"', text, flags=re.M)
+        assert count == 1
+        lxs = out_dir / "cornell-glass.lxs"
+        lxs.write_text(text)
+        text = xml.read_text()
+        assert text.count('<ref id="metal"/>') == 1
+        xml = out_dir / "cornell-glass.xml"
+        xml.write_text(text.replace('<ref id="metal"/>', '<ref id="white"/>'))
     return lxs, xml
 
 
@@ -239,9 +256,20 @@ def rel(q):
     return str(q).replace(str(REPO) + "/", "")
 
 
+DEPTH_NOTE = (
+    "How depth is counted: foton's `--max-depth` counts scattering events; a ray passing through a `null` "
+    "surface (here the light's quad) does not count. Mitsuba's `max_depth` counts every surface "
+    "interaction, its `null` BSDF's included. At a finite depth, a path that crosses the light's quad "
+    "therefore gets one more bounce in foton than in Mitsuba, and foton comes out a little brighter; the "
+    "more energy a scene keeps past the cut (glass absorbs nothing), the larger the gap. Rendered with a "
+    "depth where the cut hardly matters (a `NAME@DEPTH` row), the gap should vanish.")
+
 NOTES = {
     "diffuse": "Matched exactly: the same geometry, camera, two-sided Lambertian materials, one-sided light "
                "(L x gain), light shape transparent to rays (foton `null`, Mitsuba `null` BSDF).",
+    "glass": "`scenes/cornell.lxs` with the metal sphere white matte (copies made in `out/peers/`: "
+             "`cornell-glass.lxs` with the box filter, `cornell-glass.xml`): everything matched exactly, "
+             "the glass included (smooth dielectric, IOR 1.5 in vacuum).",
     "full": "Glass matched (smooth dielectric, IOR 1.5 in vacuum). The metal is approximated: foton's `metal2` "
             "is GGX (alpha 0.08), height-correlated Smith, Schlick Fresnel with F0 = Kr; Mitsuba's `principled` "
             "with metallic 1 has the same GGX and Schlick Fresnel on `base_color` but the separable Smith term. "
@@ -258,11 +286,15 @@ REGIONS = {  # pixel boxes (x0, y0, x1, y1) at 256x256, scaled to the resolution
 }
 
 
-def accuracy_section(args, foton, name, out_dir):
-    lxs, xml = scene_files(name, out_dir)
+def accuracy_section(args, foton, spec, out_dir):
+    """spec: a scene name, or NAME@DEPTH to render it with another --max-depth."""
+    base, _, d = spec.partition("@")
+    depth = int(d) if d else args.max_depth
+    name = spec.replace("@", "-depth")
+    lxs, xml = scene_files(base, out_dir)
     mi.set_variant("llvm_ad_rgb")
     load0 = uptime()
-    acc = accuracy(args, foton, name, lxs, xml, out_dir)
+    acc = accuracy(args, foton, name, lxs, xml, out_dir, depth)
     fm, mm = acc["foton_mean"], acc["mitsuba_mean"]
     r, c = acc["worst_block"]
     n = acc["blocks"]
@@ -271,7 +303,11 @@ def accuracy_section(args, foton, name, out_dir):
     verdict = ("**Verdict: agree** (means within 1 %, per-pixel differences at the noise level)." if ok else
                "**Verdict: differ** (means apart by 1 % or more, or per-pixel differences above the noise): "
                "see the regions below.")
-    md = [f"## Accuracy: `{rel(SCENES[name][0])}` and `{rel(xml)}`", "", NOTES.get(name, ""), "",
+    md = [f"## Accuracy: `{rel(SCENES[base][0])}` and `{rel(xml)}` ({name})", "", NOTES.get(base, ""), ""]
+    if d:
+        md += [f"foton `--max-depth {depth}`, Mitsuba `max_depth` {depth + 1}: paths long enough that the cut "
+               "hardly matters.", ""]
+    md += [
           f"{args.spp} spp each (two halves of {args.spp // 2} spp, seeds 1 and 2), Mitsuba `llvm_ad_rgb`. "
           f"foton took {acc['time_foton']:.1f} s, Mitsuba {acc['time_mitsuba']:.1f} s (with kernel compilation). "
           f"Load before: `{load0}`.", "",
@@ -290,7 +326,8 @@ def accuracy_section(args, foton, name, out_dir):
           f"{acc['block_ratio'].max():.4f}; the furthest from 1 is block row {r}, column {c} "
           f"(pixels x {c * bsz}..{(c + 1) * bsz}, y {r * bsz}..{(r + 1) * bsz}).",
           "",
-          "| region | pixels (x, y) | foton luminance | Mitsuba luminance | ratio |", "|---|---|---|---|---|"]
+          "| region | pixels (x, y) | foton luminance | Mitsuba luminance | ratio | z (standard errors) |",
+          "|---|---|---|---|---|---|"]
     s = args.res / 256
     md += region_report(acc, {k: tuple(int(v * s) for v in b) for k, b in REGIONS.items()})
     md += ["", f"Images: `docs/images/peer-{name}-foton.png`, `peer-{name}-mitsuba.png`, "
@@ -301,7 +338,9 @@ def accuracy_section(args, foton, name, out_dir):
            f"![difference](images/peer-{name}-error.png)", "",
            "foton's commands (the EXRs go to `out/peers/`, Mitsuba's too):", ""]
     md += [f"    {c}" for c in acc["foton_cmds"]]
-    return md + [""]
+    row = (f"| {name} | {acc['ratio']:.4f} | {acc['rel_rmse']:.4f} | {acc['rel_rmse_noise']:.4f} | "
+           f"{acc['rel_rmse'] / acc['rel_rmse_noise']:.3f} | {'agree' if ok else 'differ'} |")
+    return md + [""], row
 
 
 def speed_section(args, foton, name, out_dir):
@@ -314,7 +353,11 @@ def speed_section(args, foton, name, out_dir):
     sc_median, sc_times = mitsuba_times("scalar_rgb", xml, args, 3, warmup=0)
     load1 = uptime()
     f_rate, ll_rate, sc_rate = paths / f_median, paths / ll_median, paths / sc_median
-    return ["## Speed", "",
+    summary = (f"Speed (`{name}`, {args.bench_spp} spp): foton {f_rate / 1e6:.2f} M samples/s, Mitsuba "
+               f"`llvm_ad_rgb` {ll_rate / 1e6:.2f} M/s, `scalar_rgb` {sc_rate / 1e6:.2f} M/s: foton is "
+               f"{f_rate / ll_rate:.2f}x the first and {f_rate / sc_rate:.2f}x the second (load average at the "
+               f"start: {load0.split('load average:')[-1].strip()}; other work was running).")
+    return summary, ["## Speed", "",
             f"`{rel(SCENES[name][0])}`, {args.res}x{args.res}, {args.bench_spp} spp ({paths:,} camera paths "
             "per render), depth as above; the three measured back to back in one run.", "",
             f"- Load before: `{load0}`", f"- Load after: `{load1}`", "",
@@ -330,7 +373,8 @@ def speed_section(args, foton, name, out_dir):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--scenes", default="diffuse", help="comma-separated: " + ", ".join(sorted(SCENES)))
+    p.add_argument("--scenes", default="diffuse", help="comma-separated: " + ", ".join(sorted(SCENES)) +
+                   "; NAME@DEPTH renders NAME with --max-depth DEPTH")
     p.add_argument("--speed-scene", choices=sorted(SCENES), default="diffuse")
     p.add_argument("--spp", type=int, default=1024, help="accuracy samples per pixel (two halves)")
     p.add_argument("--bench-spp", type=int, default=64)
@@ -363,11 +407,20 @@ def main():
            "Russian roulette differs (foton after 2 bounces, Mitsuba after 5): it changes the noise, not the mean.",
            "", "Reproduce: `bash scripts/peers/setup.sh && cargo build --release && "
            f".venv-peers/bin/python scripts/peers/compare_mitsuba.py {argv}`", ""]
+    head, body = [], []
     if not args.no_accuracy:
+        head += [f"| scene | mean foton / Mitsuba | relative RMSE ({args.spp} spp) | noise alone | "
+                 "RMSE / noise | verdict |", "|---|---|---|---|---|---|"]
         for name in scenes:
-            md += accuracy_section(args, foton, name, out_dir)
+            section, row = accuracy_section(args, foton, name, out_dir)
+            body += section
+            head.append(row)
+        head.append("")
     if not args.no_speed:
-        md += speed_section(args, foton, args.speed_scene, out_dir)
+        summary, section = speed_section(args, foton, args.speed_scene, out_dir)
+        body += section
+        head += [summary, ""]
+    md += ["## Summary", ""] + head + [DEPTH_NOTE, ""] + body
 
     text = "\n".join(md) + "\n"
     print(text)
