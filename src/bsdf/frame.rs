@@ -26,25 +26,6 @@ impl Frame {
         }
     }
 
-    /// A frame around the unit vector `n` whose `x` follows the tangent `t`
-    /// (e.g. dp/du, which orients anisotropic roughness) projected onto the
-    /// tangent plane: y = n x t made exactly orthogonal to n (Gram-Schmidt),
-    /// then x = y x n. Falls back to [`Frame::from_z`] when `t` is within
-    /// about 1e-3 rad of +-n or degenerate, where the projection is noise.
-    pub fn from_xz(t: Vec3, n: Vec3) -> Self {
-        let y = n.cross(t);
-        if y.length_squared() > 1e-6 * t.length_squared()
-            && let Some(y) = (y - n * n.dot(y)).try_normalize()
-        {
-            return Self {
-                x: y.cross(n),
-                y,
-                z: n,
-            };
-        }
-        Self::from_z(n)
-    }
-
     /// World to local: the coordinates of `v` along `x`, `y`, `z`.
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))

@@ -1,7 +1,7 @@
 //! Lambertian (ideal diffuse) reflection: f = R / pi on the upper hemisphere.
 
 use super::BsdfSample;
-use crate::sampling::warp::cosine_hemisphere;
+use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -22,7 +22,7 @@ impl Lambertian {
     /// Cosine-weighted hemisphere sampling: pdf = cos(theta_i) / pi.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z > 0.0 && wi.z > 0.0 {
-            wi.z * FRAC_1_PI
+            cosine_hemisphere_pdf(wi.z)
         } else {
             0.0
         }

@@ -50,21 +50,6 @@ impl Film {
         self.rejected += u64::from(!accepted);
     }
 
-    /// Adds one sample to every pixel: `radiance_by_pixel[i]` goes to pixel i. Pixels are
-    /// independent, so the parallel result equals the serial one. Entries beyond the film are
-    /// rejected (counted); pixels beyond the slice receive nothing.
-    pub fn add_pass(&mut self, radiance_by_pixel: &[Vec3]) {
-        let rejected: u64 = self
-            .sums
-            .par_iter_mut()
-            .zip(self.counts.par_iter_mut())
-            .zip(radiance_by_pixel.par_iter())
-            .map(|((sum, count), &radiance)| u64::from(!accumulate(sum, count, radiance)))
-            .sum();
-        let extra = radiance_by_pixel.len().saturating_sub(self.sums.len());
-        self.rejected += rejected + extra as u64;
-    }
-
     /// The mean radiance of every pixel; black where no sample arrived.
     pub fn mean(&self) -> Vec<Vec3> {
         self.sums
@@ -120,28 +105,6 @@ mod tests {
         assert_eq!(film.rejected_samples(), 4);
         assert_eq!(film.samples_per_pixel_min(), 0);
         assert_eq!((film.width(), film.height()), (3, 2));
-    }
-
-    #[test]
-    fn film_pass_is_deterministic_and_counts() {
-        let pass: Vec<Vec3> = (0..12).map(|i| Vec3::splat(i as f32 * 0.1)).collect();
-        let mut bad = pass.clone();
-        bad[5] = Vec3::NAN;
-        let mut a = Film::new(4, 3);
-        let mut b = Film::new(4, 3);
-        for _ in 0..3 {
-            a.add_pass(&pass);
-            b.add_pass(&pass);
-        }
-        a.add_pass(&bad);
-        b.add_pass(&bad);
-        assert_eq!(a.mean(), b.mean());
-        assert_eq!(a.rejected_samples(), 1);
-        assert_eq!(a.samples_per_pixel_min(), 3);
-        assert!((a.mean()[7] - Vec3::splat(0.7)).abs().max_element() < 1e-6);
-        // A longer pass: the extra entry is rejected.
-        a.add_pass(&[Vec3::ONE; 13]);
-        assert_eq!(a.rejected_samples(), 2);
     }
 
     #[test]

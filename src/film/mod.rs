@@ -4,7 +4,6 @@
 #[allow(clippy::module_inception)]
 mod film;
 pub mod filter;
-pub mod metrics;
 pub mod output;
 pub mod tonemap;
 

@@ -61,10 +61,6 @@ impl PixelSampler {
         }
     }
 
-    pub fn kind(&self) -> SamplerKind {
-        self.kind
-    }
-
     /// A 2D sample in [0,1)^2 for sample `sample_index` of `pixel` in `dimension` (0: the film
     /// position, 1: the lens, further dimensions are allowed).
     pub fn sample_2d(&self, pixel: u32, sample_index: u32, dimension: u32) -> Vec2 {
