@@ -69,6 +69,42 @@ pub struct SceneDesc {
     pub warnings: Vec<SceneWarning>,
 }
 
+impl SceneDesc {
+    /// A scene with nothing in it yet, and the format's defaults: a 90-degree perspective camera
+    /// at the origin (its `location` where the loader would name the camera), a 640x480 film
+    /// with gamma 2.2 and autolinear tone mapping, a one-pixel box filter.
+    pub fn empty(camera_location: Location) -> Self {
+        Self {
+            camera: CameraDesc {
+                projection: Projection::Perspective { fov_degrees: 90.0 },
+                camera_to_world: Mat4::IDENTITY,
+                screen_window: None,
+                lens_radius: 0.0,
+                focal_distance: 1e6,
+                location: camera_location,
+            },
+            film: FilmDesc {
+                x_resolution: 640,
+                y_resolution: 480,
+                gamma: 2.2,
+                filename: None,
+                tonemap: ToneMap::AutoLinear,
+            },
+            pixel_samples: None,
+            max_depth: None,
+            filter: FilterDesc {
+                kind: FilterKind::Box,
+                radius: Vec2::splat(0.5),
+            },
+            textures: Vec::new(),
+            materials: Vec::new(),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraDesc {
     pub projection: Projection,

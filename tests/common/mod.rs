@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::*;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec3};
 
 pub fn location() -> Location {
     Location {
@@ -36,27 +36,11 @@ pub fn look_at(eye: Vec3, target: Vec3, fov_degrees: f32) -> CameraDesc {
 }
 
 pub fn empty_scene(camera: CameraDesc, width: u32, height: u32) -> SceneDesc {
-    SceneDesc {
-        camera,
-        film: FilmDesc {
-            x_resolution: width,
-            y_resolution: height,
-            gamma: 2.2,
-            filename: None,
-            tonemap: ToneMap::AutoLinear,
-        },
-        pixel_samples: None,
-        max_depth: None,
-        filter: FilterDesc {
-            kind: FilterKind::Box,
-            radius: Vec2::splat(0.5),
-        },
-        textures: Vec::new(),
-        materials: Vec::new(),
-        shapes: Vec::new(),
-        lights: Vec::new(),
-        warnings: Vec::new(),
-    }
+    let mut scene = SceneDesc::empty(location());
+    scene.camera = camera;
+    scene.film.x_resolution = width;
+    scene.film.y_resolution = height;
+    scene
 }
 
 pub fn matte(scene: &mut SceneDesc, albedo: Vec3) -> MaterialId {

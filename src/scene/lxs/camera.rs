@@ -57,7 +57,7 @@ impl Parser {
         if self.state.ctm.determinant().abs() < 1e-12 {
             return Err(self.error(line, "Camera: the current transformation is not invertible"));
         }
-        self.camera = CameraDesc {
+        self.scene.camera = CameraDesc {
             projection,
             camera_to_world: self.state.ctm.inverse(),
             screen_window: params.array::<4>("screenwindow")?,
@@ -74,7 +74,7 @@ impl Parser {
         line: usize,
         params: &mut ParamList,
     ) -> Result<(), SceneError> {
-        let film = &self.film;
+        let film = &self.scene.film;
         let x_resolution = self
             .positive_int(params, "xresolution", line)?
             .unwrap_or(film.x_resolution);
@@ -108,7 +108,7 @@ impl Parser {
                 ToneMap::Linear { scale: 1.0 }
             }
         };
-        self.film = crate::scene::desc::FilmDesc {
+        self.scene.film = crate::scene::desc::FilmDesc {
             x_resolution,
             y_resolution,
             gamma,
@@ -137,7 +137,7 @@ impl Parser {
                     format!("PixelFilter \"{kind}\" unsupported: box of radius 0.5"),
                 );
                 params.ignore_all();
-                self.filter = FilterDesc {
+                self.scene.filter = FilterDesc {
                     kind: FilterKind::Box,
                     radius: Vec2::splat(0.5),
                 };
@@ -155,7 +155,7 @@ impl Parser {
                 format!("PixelFilter: width {radius} must be positive"),
             ));
         }
-        self.filter = FilterDesc { kind, radius };
+        self.scene.filter = FilterDesc { kind, radius };
         Ok(())
     }
 }

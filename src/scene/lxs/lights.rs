@@ -67,7 +67,7 @@ impl Parser {
         // LuxBlend writes "power" and "efficacy" 0 for point lights; they only matter for area lights.
         params.float("power")?;
         params.float("efficacy")?;
-        self.lights.push(light);
+        self.scene.lights.push(light);
         Ok(())
     }
 

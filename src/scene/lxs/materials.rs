@@ -186,8 +186,8 @@ impl Parser {
         );
         let what = format!("Texture \"{name}\" \"{filename}\"");
         let id = self.load_image(name, &filename, gamma, gain, line, &what)?;
-        self.textures[id].scale = scale;
-        self.textures[id].delta = delta;
+        self.scene.textures[id].scale = scale;
+        self.scene.textures[id].delta = delta;
         Ok(id)
     }
 
@@ -208,7 +208,7 @@ impl Parser {
                 format!("{what}: cannot decode {}: {e}", path.display()),
             )
         })?;
-        self.textures.push(ImageTexture {
+        self.scene.textures.push(ImageTexture {
             name: name.to_string(),
             path,
             width: image.width,
@@ -217,6 +217,6 @@ impl Parser {
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
         });
-        Ok(self.textures.len() - 1)
+        Ok(self.scene.textures.len() - 1)
     }
 }

@@ -4,15 +4,13 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec3};
 
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
 use crate::scene::desc::{
-    AreaLightDesc, CameraDesc, ColorParam, FilmDesc, FilterDesc, FilterKind, ImageTexture,
-    LightDesc, Location, MaterialDesc, MaterialId, Projection, SceneDesc, SceneError, SceneWarning,
-    ShapeDesc, ToneMap,
+    AreaLightDesc, ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning,
 };
 
 /// What `AttributeBegin`/`AttributeEnd` save and restore.
@@ -67,16 +65,8 @@ pub(super) struct Parser {
     include_chain: Vec<PathBuf>,
     pub named_materials: HashMap<String, MaterialId>,
     pub named_textures: HashMap<String, ColorParam>,
-    pub camera: CameraDesc,
-    pub film: FilmDesc,
-    pub pixel_samples: Option<u32>,
-    pub max_depth: Option<u32>,
-    pub filter: FilterDesc,
-    pub textures: Vec<ImageTexture>,
-    pub materials: Vec<MaterialDesc>,
-    pub shapes: Vec<ShapeDesc>,
-    pub lights: Vec<LightDesc>,
-    pub warnings: Vec<SceneWarning>,
+    /// What has been read so far.
+    pub scene: SceneDesc,
 }
 
 impl Parser {
@@ -91,35 +81,10 @@ impl Parser {
             include_chain: Vec::new(),
             named_materials: HashMap::new(),
             named_textures: HashMap::new(),
-            camera: CameraDesc {
-                projection: Projection::Perspective { fov_degrees: 90.0 },
-                camera_to_world: Mat4::IDENTITY,
-                screen_window: None,
-                lens_radius: 0.0,
-                focal_distance: 1e6,
-                location: Location {
-                    file: path.to_path_buf(),
-                    line: 0,
-                },
-            },
-            film: FilmDesc {
-                x_resolution: 640,
-                y_resolution: 480,
-                gamma: 2.2,
-                filename: None,
-                tonemap: ToneMap::AutoLinear,
-            },
-            pixel_samples: None,
-            max_depth: None,
-            filter: FilterDesc {
-                kind: FilterKind::Box,
-                radius: Vec2::splat(0.5),
-            },
-            textures: Vec::new(),
-            materials: Vec::new(),
-            shapes: Vec::new(),
-            lights: Vec::new(),
-            warnings: Vec::new(),
+            scene: SceneDesc::empty(Location {
+                file: path.to_path_buf(),
+                line: 0,
+            }),
         }
     }
 
@@ -142,7 +107,7 @@ impl Parser {
             location: self.location(line),
             message: message.into(),
         };
-        self.warnings.push(warning);
+        self.scene.warnings.push(warning);
     }
 
     /// Finds a file named in the current file (see `paths::resolve`), warning when it was found
@@ -297,8 +262,8 @@ impl Parser {
             }
             "Include" => {
                 let (mut strings, params) = self.strings(name, line, args, 1)?;
-                let params = ParamList::parse(&self.file, params, &mut self.warnings)?;
-                params.warn_unused(name, &mut self.warnings);
+                let params = ParamList::parse(&self.file, params, &mut self.scene.warnings)?;
+                params.warn_unused(name, &mut self.scene.warnings);
                 let target = strings.remove(0);
                 self.include(&target, line)?;
             }
@@ -308,10 +273,10 @@ impl Parser {
                     return Ok(());
                 };
                 let (strings, params) = self.strings(name, line, args, kind)?;
-                let mut params = ParamList::parse(&self.file, params, &mut self.warnings)?;
+                let mut params = ParamList::parse(&self.file, params, &mut self.scene.warnings)?;
                 let context = format!("{name} \"{}\"", strings.first().map_or("", String::as_str));
                 self.with_params(name, line, &strings, &mut params)?;
-                params.warn_unused(&context, &mut self.warnings);
+                params.warn_unused(&context, &mut self.scene.warnings);
             }
         }
         Ok(())
@@ -340,26 +305,26 @@ impl Parser {
             "Camera" => self.camera(first, line, params)?,
             "Film" => self.film_directive(line, params)?,
             "Sampler" => {
-                self.pixel_samples = self.positive_int(params, "pixelsamples", line)?;
+                self.scene.pixel_samples = self.positive_int(params, "pixelsamples", line)?;
             }
             "SurfaceIntegrator" => {
                 let depth = match self.count(params, "maxdepth", line)? {
                     Some(depth) => Some(depth),
                     None => self.count(params, "eyedepth", line)?,
                 };
-                self.max_depth = depth.or(self.max_depth);
+                self.scene.max_depth = depth.or(self.scene.max_depth);
             }
             "PixelFilter" => self.pixel_filter(first, line, params)?,
             "Material" => {
                 let material = self.material(first, line, params)?;
-                self.materials.push(material);
-                self.state.material = Some(self.materials.len() - 1);
+                self.scene.materials.push(material);
+                self.state.material = Some(self.scene.materials.len() - 1);
             }
             "MakeNamedMaterial" => {
                 let kind = params.string("type")?.unwrap_or_default();
                 let material = self.material(&kind, line, params)?;
-                self.materials.push(material);
-                let id = self.materials.len() - 1;
+                self.scene.materials.push(material);
+                let id = self.scene.materials.len() - 1;
                 if self.named_materials.insert(first.to_string(), id).is_some() {
                     self.warn(line, format!("MakeNamedMaterial \"{first}\" redefined"));
                 }
@@ -534,18 +499,7 @@ impl Parser {
                 message: "WorldBegin is never closed by WorldEnd".into(),
             });
         }
-        Ok(SceneDesc {
-            camera: self.camera,
-            film: self.film,
-            pixel_samples: self.pixel_samples,
-            max_depth: self.max_depth,
-            filter: self.filter,
-            textures: self.textures,
-            materials: self.materials,
-            shapes: self.shapes,
-            lights: self.lights,
-            warnings: self.warnings,
-        })
+        Ok(self.scene)
     }
 }
 

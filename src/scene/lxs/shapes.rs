@@ -67,7 +67,7 @@ impl Parser {
         } else {
             geometry
         };
-        self.shapes.push(ShapeDesc {
+        self.scene.shapes.push(ShapeDesc {
             geometry,
             object_to_world: self.state.ctm,
             material: self.state.material,
