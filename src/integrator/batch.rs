@@ -16,8 +16,6 @@ pub struct PathBatch {
     pub pixel: Vec<u32>,
     /// Raster position of the camera sample (pixel centre plus the filter offset).
     pub film_position: Vec<Vec2>,
-    /// The lens sample in [0,1)^2, for cameras with an aperture.
-    pub lens_sample: Vec<Vec2>,
     /// The ray the path follows next (camera space between ray generation and the lens stages).
     pub origin: Vec<Vec3>,
     pub direction: Vec<Vec3>,
@@ -44,7 +42,6 @@ impl PathBatch {
         self.len = count;
         resize(&mut self.pixel, count, 0);
         resize(&mut self.film_position, count, Vec2::ZERO);
-        resize(&mut self.lens_sample, count, Vec2::ZERO);
         resize(&mut self.origin, count, Vec3::ZERO);
         resize(&mut self.direction, count, Vec3::Z);
         resize(&mut self.throughput, count, Vec3::ONE);
@@ -67,7 +64,6 @@ impl PathBatch {
             if kept != i {
                 self.pixel[kept] = self.pixel[i];
                 self.film_position[kept] = self.film_position[i];
-                self.lens_sample[kept] = self.lens_sample[i];
                 self.origin[kept] = self.origin[i];
                 self.direction[kept] = self.direction[i];
                 self.throughput[kept] = self.throughput[i];

@@ -1,4 +1,4 @@
-//! The first stage of a pass: one fresh path per pixel, with its film and lens samples.
+//! The first stage of a pass: one fresh path per pixel, with its film sample.
 
 use bevy_ecs::prelude::*;
 use glam::Vec2;
@@ -20,9 +20,9 @@ pub struct CameraSampling {
     pub filter: PixelFilter,
 }
 
-/// Sampler dimensions: the film position, then the lens.
-const FILM_DIMENSION: u32 = 0;
-const LENS_DIMENSION: u32 = 1;
+/// Sampler dimensions: the film position, then the lens (drawn by the lens stage, if any).
+pub const FILM_DIMENSION: u32 = 0;
+pub const LENS_DIMENSION: u32 = 1;
 
 pub fn start_pass(
     settings: Res<RenderSettings>,
@@ -39,7 +39,6 @@ pub fn start_pass(
     (
         &mut batch.pixel[..],
         &mut batch.film_position[..],
-        &mut batch.lens_sample[..],
         &mut batch.rng[..],
         &mut batch.throughput[..],
         &mut batch.radiance[..],
@@ -52,7 +51,7 @@ pub fn start_pass(
         .enumerate()
         .with_min_len(1024)
         .for_each(
-            |(i, (pixel, film, lens, rng, throughput, radiance, depth, through, pdf, alive))| {
+            |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
                 let i = i as u32;
                 let centre = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
                 *pixel = i;
@@ -60,7 +59,6 @@ pub fn start_pass(
                     + sampling
                         .filter
                         .sample(sampling.sampler.sample_2d(i, pass, FILM_DIMENSION));
-                *lens = sampling.sampler.sample_2d(i, pass, LENS_DIMENSION);
                 *rng = PathRng::new(seed, i, pass);
                 *throughput = glam::Vec3::ONE;
                 *radiance = glam::Vec3::ZERO;
