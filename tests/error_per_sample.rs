@@ -158,23 +158,26 @@ fn sky_and_lamp() -> SceneDesc {
     scene
 }
 
-/// The defensive mix of power and uniform selection gives the lamp a quarter of the samples or
-/// more instead of a few percent: less variance than selection by power on the floor it lights.
+/// Uniform selection (half the samples to the lamp) and the defensive mix of power and uniform
+/// (a quarter or more) instead of a few percent: less variance than selection by power on the
+/// floor the lamp lights.
 #[test]
-fn mixed_light_selection_has_less_variance_than_power_selection_under_a_sky() {
+fn uniform_and_mixed_light_selection_have_less_variance_than_power_under_a_sky() {
     let techniques = |light_selection| Techniques {
         light_selection,
+        film: Reconstruction::FilterImportance,
         ..Techniques::default()
     };
-    let mixed = variance_sum(sky_and_lamp, 8, techniques(LightSelection::Mixed));
     let power = variance_sum(sky_and_lamp, 8, techniques(LightSelection::Power));
     let k = 32 * 32 * 3;
-    let ratio = mixed / power;
-    assert!(
-        ratio < f_lower_quantile(k),
-        "variance ratio mixed / power {ratio:.3}, bound {:.3}",
-        f_lower_quantile(k)
-    );
+    for selection in [LightSelection::Uniform, LightSelection::Mixed] {
+        let ratio = variance_sum(sky_and_lamp, 8, techniques(selection)) / power;
+        assert!(
+            ratio < f_lower_quantile(k),
+            "variance ratio {selection:?} / power {ratio:.3}, bound {:.3}",
+            f_lower_quantile(k)
+        );
+    }
 }
 
 /// A Cornell-style box lit by a ceiling lamp: paths live long, so Russian roulette from the
@@ -183,6 +186,7 @@ fn mixed_light_selection_has_less_variance_than_power_selection_under_a_sky() {
 fn later_russian_roulette_has_less_variance() {
     let techniques = |rr_depth| Techniques {
         rr_depth,
+        film: Reconstruction::FilterImportance,
         ..Techniques::default()
     };
     let late = variance_sum(test_box, 8, techniques(5));

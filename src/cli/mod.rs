@@ -1,7 +1,8 @@
-//! The command line: `foton render`, `foton bench`, `foton compare`.
+//! The command line: `foton render`, `foton bench`, `foton compare`, `foton converge`.
 
 mod bench;
 mod compare;
+mod converge;
 mod render;
 
 use std::path::PathBuf;
@@ -35,6 +36,29 @@ enum Command {
     Bench(BenchArgs),
     /// Error of image A against the reference B: RMSE, relMSE, MAPE, PSNR.
     Compare(CompareArgs),
+    /// Error against time: render at growing spp per configuration, write a CSV and a chart.
+    Converge(ConvergeCliArgs),
+}
+
+#[derive(Args, Debug)]
+struct ConvergeCliArgs {
+    /// The scene file (.lxs).
+    scene: PathBuf,
+    /// The converged image to measure against (.exr, the scene's resolution).
+    #[arg(long)]
+    reference: PathBuf,
+    /// A configuration, "label: render options", e.g. "fis: --film fis" (repeatable).
+    #[arg(long = "config")]
+    configurations: Vec<String>,
+    /// Samples per pixel to render at, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [1u32, 2, 4, 8, 16, 32, 64])]
+    spp: Vec<u32>,
+    /// Another renderer's points (CSV: configuration, seconds, spp, relmse), drawn beside.
+    #[arg(long = "peer")]
+    peers: Vec<PathBuf>,
+    /// The CSV to write; the chart goes beside it as .svg.
+    #[arg(long, short, default_value = "converge.csv")]
+    output: PathBuf,
 }
 
 #[derive(Args, Debug)]
@@ -258,6 +282,14 @@ pub fn run() -> ExitCode {
         Command::Render(args) => render::run(&args.scene, args.output, args.exposure, args.repeat),
         Command::Bench(args) => bench::run(&args.scene, args.repeat),
         Command::Compare(args) => compare::run(&args.a, &args.b, args.diff, args.json),
+        Command::Converge(args) => converge::run(&converge::ConvergeArgs {
+            scene: &args.scene,
+            reference: &args.reference,
+            configurations: &args.configurations,
+            spp: &args.spp,
+            peers: &args.peers,
+            output: &args.output,
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

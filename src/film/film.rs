@@ -18,13 +18,56 @@ use super::PixelFilter;
 ///   sample; the ratio is consistent, not unbiased.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Reconstruction {
-    #[default]
     FilterImportance,
+    #[default]
     Splat,
 }
 
 /// Widest footprint a splat covers on one axis (a filter radius up to 7.5 pixels).
 const MAX_FOOTPRINT: usize = 16;
+/// Entries of the tabulated filter over [0, r] on each axis, read with linear interpolation
+/// (Mitsuba 3 tabulates its filters the same way): a splat then costs table reads, not the
+/// filter's exponentials.
+const SPLAT_TABLE: usize = 256;
+
+/// The filter's two axes, tabulated: f(d, 0) and f(0, d) for d in [0, r].
+#[derive(Clone, Debug)]
+struct SplatFilter {
+    radius: Vec2,
+    tables: [Vec<f32>; 2],
+}
+
+impl SplatFilter {
+    fn new(filter: &PixelFilter) -> Self {
+        let radius = filter.radius();
+        let table = |axis: usize| {
+            (0..=SPLAT_TABLE)
+                .map(|i| {
+                    let mut offset = Vec2::ZERO;
+                    offset[axis] = radius[axis] * i as f32 / SPLAT_TABLE as f32;
+                    filter.evaluate(offset)
+                })
+                .collect()
+        };
+        Self {
+            radius,
+            tables: [table(0), table(1)],
+        }
+    }
+
+    /// The filter along `axis` at `offset` pixels (symmetric; 0 beyond the radius).
+    fn value(&self, axis: usize, offset: f32) -> f32 {
+        let x = offset.abs() / self.radius[axis] * SPLAT_TABLE as f32;
+        if x.is_nan() || x >= SPLAT_TABLE as f32 {
+            return 0.0;
+        }
+        // Casts, not fract(): without SSE4.1 rounding is a library call.
+        let i = x as usize;
+        let t = x - i as f32;
+        let table = &self.tables[axis];
+        table[i] + (table[i + 1] - table[i]) * t
+    }
+}
 
 /// Weighted radiance sums and weight sums per pixel, rows from the top.
 ///
@@ -40,7 +83,7 @@ pub struct Film {
     counts: Vec<u64>,
     rejected: u64,
     /// The filter samples are splatted with; `None` for filter importance sampling.
-    splat: Option<PixelFilter>,
+    splat: Option<SplatFilter>,
 }
 
 impl Film {
@@ -60,7 +103,7 @@ impl Film {
     /// From now on, samples are splatted with `filter` (their positions must then be uniform
     /// in their pixels).
     pub fn splat_with(&mut self, filter: PixelFilter) {
-        self.splat = Some(filter);
+        self.splat = Some(SplatFilter::new(&filter));
     }
 
     pub fn width(&self) -> u32 {
@@ -90,13 +133,9 @@ impl Film {
             }
             Some(filter) => {
                 // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius.
-                let radius = filter.radius();
-                let (xs, wx) = footprint(position.x, radius.x, self.width, |d| {
-                    filter.evaluate(Vec2::new(d, 0.0))
-                });
-                let (ys, wy) = footprint(position.y, radius.y, self.height, |d| {
-                    filter.evaluate(Vec2::new(0.0, d))
-                });
+                let radius = filter.radius;
+                let (xs, wx) = footprint(position.x, radius.x, self.width, |d| filter.value(0, d));
+                let (ys, wy) = footprint(position.y, radius.y, self.height, |d| filter.value(1, d));
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
                 for (j, &fy) in wy.iter().enumerate().take(ys.1) {
@@ -145,8 +184,10 @@ fn footprint(
     size: u32,
     value: impl Fn(f32) -> f32,
 ) -> ((usize, usize), [f32; MAX_FOOTPRINT]) {
-    let first = (position - 0.5 - radius).ceil().max(0.0) as usize;
-    let last = ((position - 0.5 + radius).floor() as i64).min(i64::from(size) - 1);
+    // ceil and floor by casts (which truncate towards zero), as in `SplatFilter::value`.
+    let (low, high) = (position - 0.5 - radius, position - 0.5 + radius);
+    let first = (low as i64 + i64::from((low as i64 as f32) < low)).max(0) as usize;
+    let last = (high as i64 - i64::from((high as i64 as f32) > high)).min(i64::from(size) - 1);
     let count = (last + 1 - first as i64).clamp(0, MAX_FOOTPRINT as i64) as usize;
     let mut weights = [0.0; MAX_FOOTPRINT];
     for (i, w) in weights.iter_mut().enumerate().take(count) {

@@ -60,12 +60,13 @@ impl Light {
 /// camera sees (its power counts light that passes the scene by); uniformly, a dim light gets
 /// as many samples as the sun. The mix, half of each (a defensive mixture, Hesterberg 1995),
 /// keeps every light's probability at least 1 / 2n and at least half its power share, so
-/// neither case can be worse than twice the better strategy's variance.
+/// neither case can be worse than twice the better strategy's variance. Uniform is the default:
+/// on the scenes measured (docs/error-per-second.md) it had the least error, as in Mitsuba 3.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightSelection {
     Power,
-    Uniform,
     #[default]
+    Uniform,
     Mixed,
 }
 
