@@ -3,7 +3,7 @@
 //! Each configuration (a label and render options, e.g. `splat: --film splat`) renders the
 //! scene at growing sample counts; each render's wall time and relMSE against the reference go
 //! to a CSV (configuration, seconds, spp, relmse) and to a log-log chart of relMSE against
-//! seconds (SVG), one curve per configuration. Curves of another renderer (a CSV with the same
+//! seconds (SVG, and PNG where a font is found), one curve per configuration. Curves of another renderer (a CSV with the same
 //! columns, e.g. from scripts/peers/mitsuba_converge.py) can be drawn beside them.
 
 use std::fmt::Write as _;
@@ -86,8 +86,12 @@ pub fn run(args: &ConvergeArgs) -> Result<(), String> {
     }
     write_csv(args.output, &points)?;
     let chart = args.output.with_extension("svg");
-    draw_chart(&chart, &all)?;
-    println!("{} and {} written", args.output.display(), chart.display());
+    draw_charts(&chart, &all)?;
+    println!(
+        "{} and {} (and .png) written",
+        args.output.display(),
+        chart.display()
+    );
     Ok(())
 }
 
@@ -142,8 +146,54 @@ pub fn read_csv(path: &Path) -> Result<Vec<Point>, String> {
     Ok(points)
 }
 
+/// Fonts for the charts' text (plotters measures text with one, for the SVG too).
+const FONTS: [&str; 3] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+];
+
+/// The chart as `path` (SVG) and beside it as PNG; none where no font is found (a warning).
+fn draw_charts(path: &Path, points: &[Point]) -> Result<(), String> {
+    let error = |e: String| format!("error: {}: {e}", path.display());
+    let png = path.with_extension("png");
+    let Some(font) = FONTS.iter().find_map(|f| std::fs::read(f).ok()) else {
+        eprintln!(
+            "warning: no font found ({}): the charts {} and {} are not drawn",
+            FONTS.join(", "),
+            path.display(),
+            png.display()
+        );
+        return Ok(());
+    };
+    // The registry keeps fonts for the life of the process: one leaked copy per chart.
+    plotters::style::register_font("sans-serif", FontStyle::Normal, font.leak())
+        .map_err(|_| error("unreadable font".into()))?;
+    draw_chart(
+        SVGBackend::new(path, CHART_SIZE).into_drawing_area(),
+        points,
+    )
+    .map_err(error)?;
+    let (w, h) = CHART_SIZE;
+    let mut pixels = vec![0u8; (w * h * 3) as usize];
+    draw_chart(
+        BitMapBackend::with_buffer(&mut pixels, CHART_SIZE).into_drawing_area(),
+        points,
+    )
+    .map_err(error)?;
+    image::RgbImage::from_raw(w, h, pixels)
+        .ok_or_else(|| error("chart buffer size".into()))?
+        .save(&png)
+        .map_err(|e| format!("error: {}: {e}", png.display()))
+}
+
+const CHART_SIZE: (u32, u32) = (800, 560);
+
 /// The log-log chart of relMSE against seconds, one curve per configuration.
-fn draw_chart(path: &Path, points: &[Point]) -> Result<(), String> {
+fn draw_chart<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    points: &[Point],
+) -> Result<(), String> {
     let positive: Vec<&Point> = points
         .iter()
         .filter(|p| p.seconds > 0.0 && p.rel_mse > 0.0)
@@ -159,8 +209,7 @@ fn draw_chart(path: &Path, points: &[Point]) -> Result<(), String> {
             0.1..1.0
         }
     };
-    let error = |e: String| format!("error: {}: {e}", path.display());
-    let root = SVGBackend::new(path, (800, 560)).into_drawing_area();
+    let error = |e: String| e;
     root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
     let mut chart = ChartBuilder::on(&root)
         .caption("relMSE against time", ("sans-serif", 22))
@@ -176,6 +225,9 @@ fn draw_chart(path: &Path, points: &[Point]) -> Result<(), String> {
         .configure_mesh()
         .x_desc("seconds")
         .y_desc("relMSE")
+        .x_label_formatter(&|x| format!("{x:.3}"))
+        .y_label_formatter(&|y| format!("{y:.1e}"))
+        .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(|e| error(e.to_string()))?;
     let mut names: Vec<&str> = Vec::new();
@@ -186,12 +238,14 @@ fn draw_chart(path: &Path, points: &[Point]) -> Result<(), String> {
     }
     for (i, name) in names.iter().enumerate() {
         let colour = Palette99::pick(i).to_rgba();
-        let mut curve: Vec<(f64, f64)> = positive
+        let mut curve: Vec<(u32, f64, f64)> = positive
             .iter()
             .filter(|p| p.configuration == *name)
-            .map(|p| (p.seconds, p.rel_mse))
+            .map(|p| (p.spp, p.seconds, p.rel_mse))
             .collect();
-        curve.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // In order of samples: on a busy machine a render can take longer than a bigger one.
+        curve.sort_by_key(|p| p.0);
+        let curve: Vec<(f64, f64)> = curve.iter().map(|&(_, s, e)| (s, e)).collect();
         chart
             .draw_series(LineSeries::new(curve.clone(), colour.stroke_width(2)))
             .map_err(|e| error(e.to_string()))?
@@ -237,7 +291,7 @@ mod tests {
         let back = read_csv(&path).unwrap();
         assert_eq!(back.len(), 2);
         assert_eq!((back[1].spp, back[1].rel_mse), (8, 0.125));
-        draw_chart(&dir.join("chart.svg"), &back).unwrap();
+        draw_charts(&dir.join("chart.svg"), &back).unwrap();
         let svg = std::fs::read_to_string(dir.join("chart.svg")).unwrap();
         assert!(svg.contains("relMSE") && svg.contains("<svg"));
         std::fs::write(&path, "configuration,seconds,spp,relmse\nb,x,1,0.1\n").unwrap();
