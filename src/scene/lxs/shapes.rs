@@ -67,13 +67,15 @@ impl Parser {
         } else {
             geometry
         };
-        self.scene.shapes.push(ShapeDesc {
+        let mut shape = ShapeDesc {
             geometry,
             object_to_world: self.state.ctm,
             material: self.state.material,
-            area_light: self.state.area_light,
+            area_light: None,
             location: self.location(line),
-        });
+        };
+        shape.area_light = self.state.area_light.map(|light| light.radiance(&shape));
+        self.scene.shapes.push(shape);
         Ok(())
     }
 
