@@ -3,6 +3,7 @@
 
 pub mod build;
 pub mod desc;
+pub mod io;
 pub mod lxs;
 
 use std::path::Path;

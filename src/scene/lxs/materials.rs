@@ -4,10 +4,10 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
-use super::images;
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
 use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
+use crate::scene::io::image;
 
 /// LuxRender's default diffuse grey, also what unknown materials become.
 const GREY: Vec3 = Vec3::splat(0.5);
@@ -220,7 +220,7 @@ impl Parser {
         what: &str,
     ) -> Result<usize, SceneError> {
         let path = self.resolve(filename, line, what)?;
-        let image = images::decode(&path, gamma, gain).map_err(|e| {
+        let decoded = image::decode(&path, gamma, gain).map_err(|e| {
             self.error(
                 line,
                 format!("{what}: cannot decode {}: {e}", path.display()),
@@ -229,9 +229,9 @@ impl Parser {
         self.scene.textures.push(ImageTexture {
             name: name.to_string(),
             path,
-            width: image.width,
-            height: image.height,
-            texels: Arc::new(image.texels),
+            width: decoded.width,
+            height: decoded.height,
+            texels: Arc::new(decoded.texels),
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
         });

@@ -4,8 +4,8 @@ use glam::{Vec2, Vec3};
 
 use super::params::ParamList;
 use super::parser::Parser;
-use super::ply;
 use crate::scene::desc::{Geometry, SceneError, ShapeDesc};
+use crate::scene::io::ply;
 
 impl Parser {
     /// Adds a shape with the current transform, material and area light.
