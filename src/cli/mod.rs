@@ -1,6 +1,7 @@
-//! The command line: `foton render` and `foton bench`.
+//! The command line: `foton render`, `foton bench`, `foton compare`.
 
 mod bench;
+mod compare;
 mod render;
 
 use std::path::PathBuf;
@@ -9,9 +10,11 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::camera::fisheye::FisheyeFit;
+use crate::film::Reconstruction;
+use crate::light::LightSelection;
 use crate::sampling::SamplerKind;
 use crate::scene::build::{CameraKind, RenderOptions};
-use crate::settings::IntegratorKind;
+use crate::settings::{IntegratorKind, Techniques};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -30,6 +33,22 @@ enum Command {
     Render(RenderArgs),
     /// Measure wavefront throughput: render a scene several times, report the median.
     Bench(BenchArgs),
+    /// Error of image A against the reference B: RMSE, relMSE, MAPE, PSNR.
+    Compare(CompareArgs),
+}
+
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// The image to measure (.exr).
+    a: PathBuf,
+    /// The reference (.exr).
+    b: PathBuf,
+    /// Write a false-colour difference image (.png).
+    #[arg(long)]
+    diff: Option<PathBuf>,
+    /// Print the measures as JSON.
+    #[arg(long)]
+    json: bool,
 }
 
 /// The scene and how to render it; shared by `render` and `bench`.
@@ -73,6 +92,15 @@ pub struct SceneArgs {
     pub fisheye_fov: Option<f32>,
     #[arg(long, value_enum, default_value_t = FitArg::Ellipse)]
     pub fisheye_fit: FitArg,
+    /// How next-event estimation picks a light (default: the measured best).
+    #[arg(long, value_enum)]
+    pub light_selection: Option<LightSelectionArg>,
+    /// Bounces before Russian roulette may end a path.
+    #[arg(long)]
+    pub rr_depth: Option<u32>,
+    /// Pixel reconstruction: filter importance sampling or splatting (default: the measured best).
+    #[arg(long, value_enum)]
+    pub film: Option<FilmArg>,
     /// List what was built: entities, resources, BVH statistics, systems.
     #[arg(long, short)]
     pub verbose: bool,
@@ -125,12 +153,44 @@ pub enum CameraArg {
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum LightSelectionArg {
+    Power,
+    Uniform,
+    Mixed,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum FilmArg {
+    Fis,
+    Splat,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum FitArg {
     Ellipse,
     Circle,
 }
 
 impl SceneArgs {
+    /// The sampling techniques: the defaults, with what the command line chose on top.
+    pub fn techniques(&self) -> Techniques {
+        let defaults = Techniques::default();
+        Techniques {
+            light_selection: self
+                .light_selection
+                .map_or(defaults.light_selection, |l| match l {
+                    LightSelectionArg::Power => LightSelection::Power,
+                    LightSelectionArg::Uniform => LightSelection::Uniform,
+                    LightSelectionArg::Mixed => LightSelection::Mixed,
+                }),
+            rr_depth: self.rr_depth.unwrap_or(defaults.rr_depth),
+            film: self.film.map_or(defaults.film, |f| match f {
+                FilmArg::Fis => Reconstruction::FilterImportance,
+                FilmArg::Splat => Reconstruction::Splat,
+            }),
+        }
+    }
+
     pub fn render_options(&self) -> RenderOptions {
         RenderOptions {
             samples_per_pixel: self.spp,
@@ -197,6 +257,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(&args.scene, args.output, args.exposure, args.repeat),
         Command::Bench(args) => bench::run(&args.scene, args.repeat),
+        Command::Compare(args) => compare::run(&args.a, &args.b, args.diff, args.json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
