@@ -37,7 +37,7 @@ enum Command {
 /// The scene and how to render it; shared by `render` and `bench`.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// The scene file (.lxs).
+    /// The scene file; its extension picks the loader (.lxs).
     pub scene: PathBuf,
     /// Samples per pixel (the original's -s / -aa).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
