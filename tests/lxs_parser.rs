@@ -765,6 +765,25 @@ fn point_light_power_sets_its_luminous_flux() {
     assert_eq!(intensity(&s.lights[1]), l);
 }
 
+/// LuxRender's spot light counts its flux over the cone, the falloff band at half weight:
+/// 2 pi Y(I) (1 - (cos(coneangle - conedeltaangle) + cos(coneangle)) / 2).
+#[test]
+fn spot_light_power_sets_its_luminous_flux() {
+    let s = scene(
+        "spot_power",
+        "WorldBegin\n\
+         LightSource \"spot\" \"color L\" [0.2 1 0.5] \"float gain\" [3] \"float coneangle\" [40] \"float conedeltaangle\" [10] \"float power\" [25] \"float efficacy\" [17]\nWorldEnd\n",
+    );
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    let LightDesc::Spot { intensity, .. } = s.lights[0] else {
+        panic!("{:?}", s.lights[0]);
+    };
+    let l = Vec3::new(0.2, 1.0, 0.5);
+    let band = 1.0 - 0.5 * (30f64.to_radians().cos() + 40f64.to_radians().cos());
+    let expected = l * (3.0 * 25.0 * 17.0 / (2.0 * PI64 * luminance64(l) * band)) as f32;
+    assert!(close_rel(intensity, expected), "{intensity} {expected}");
+}
+
 #[test]
 fn infinite_lights_constant_and_mapped() {
     let dir = temp_folder("infinite");
