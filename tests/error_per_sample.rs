@@ -232,8 +232,8 @@ fn splatting_a_wide_filter_has_less_variance_than_filter_importance_sampling() {
 #[test]
 fn splatting_keeps_the_furnace_mean() {
     let mut scene = empty_scene(look_at(Vec3::new(0.0, -4.0, 0.0), Vec3::ZERO, 30.0), 48, 48);
-    scene.materials.push(MaterialDesc::Matte {
-        kd: ColorParam::Constant(Vec3::splat(0.5)),
+    scene.materials.push(MaterialDesc::Diffuse {
+        reflectance: ColorParam::Constant(Vec3::splat(0.5)),
     });
     sphere(&mut scene, Vec3::ZERO, 1.0, 0);
     scene.lights.push(LightDesc::Infinite {

@@ -8,13 +8,15 @@ mod render;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::camera::fisheye::FisheyeFit;
+use crate::camera::{self, CameraType};
 use crate::film::Reconstruction;
 use crate::light::LightSelection;
 use crate::sampling::SamplerKind;
-use crate::scene::build::{CameraKind, RenderOptions};
+use crate::scene::build::RenderOptions;
 use crate::settings::{IntegratorKind, Techniques};
 
 #[derive(Parser, Debug)]
@@ -78,7 +80,7 @@ struct CompareArgs {
 /// The scene and how to render it; shared by `render` and `bench`.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// The scene file (.lxs).
+    /// The scene file; its extension picks the loader (.lxs).
     pub scene: PathBuf,
     /// Samples per pixel (the original's -s / -aa).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -103,8 +105,8 @@ pub struct SceneArgs {
     #[arg(long, value_enum, default_value_t = SamplerArg::MultiJittered)]
     pub sampler: SamplerArg,
     /// Use this camera instead of the scene's.
-    #[arg(long, value_enum)]
-    pub camera: Option<CameraArg>,
+    #[arg(long, value_parser = camera_parser())]
+    pub camera: Option<&'static CameraType>,
     /// Thin lens: distance to the plane in focus (the original's fd).
     #[arg(long, value_parser = parse_in(1e-4, f32::MAX))]
     pub focal_distance: Option<f32>,
@@ -168,15 +170,6 @@ pub enum SamplerArg {
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
-pub enum CameraArg {
-    Pinhole,
-    ThinLens,
-    Fisheye,
-    Orthographic,
-    Equirectangular,
-}
-
-#[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum LightSelectionArg {
     Power,
     Uniform,
@@ -231,13 +224,7 @@ impl SceneArgs {
                 IntegratorArg::Raycast => IntegratorKind::RayCaster,
             },
             time_limit: self.time_limit.map(std::time::Duration::from_secs_f32),
-            camera: self.camera.map(|c| match c {
-                CameraArg::Pinhole => CameraKind::Pinhole,
-                CameraArg::ThinLens => CameraKind::ThinLens,
-                CameraArg::Fisheye => CameraKind::Fisheye,
-                CameraArg::Orthographic => CameraKind::Orthographic,
-                CameraArg::Equirectangular => CameraKind::Equirectangular,
-            }),
+            camera: self.camera,
             focal_distance: self.focal_distance,
             lens_radius: self.lens_radius,
             fisheye_fov: self.fisheye_fov,
@@ -247,6 +234,13 @@ impl SceneArgs {
             },
         }
     }
+}
+
+/// `--camera`: one of the registry's cameras, by foton's name.
+fn camera_parser() -> impl TypedValueParser<Value = &'static CameraType> {
+    PossibleValuesParser::new(camera::names()).try_map(|name: String| {
+        camera::find(&name).ok_or_else(|| format!("no camera called {name:?}"))
+    })
 }
 
 /// A parser for a number in [min, max].
