@@ -1,4 +1,4 @@
-//! The first stage of a pass: one fresh path per pixel, with its film sample.
+//! The first stage of a chunk: one fresh path per pixel of the chunk, with its film sample.
 
 use bevy_ecs::prelude::*;
 use glam::Vec2;
@@ -12,6 +12,13 @@ use crate::settings::RenderSettings;
 /// Which pass (sample index per pixel) is running.
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct PassIndex(pub u32);
+
+/// The pixels of the running pass that the chunk traces: `first..first + count`.
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct ChunkRange {
+    pub first: u32,
+    pub count: u32,
+}
 
 /// The pixel and lens sample patterns and the pixel filter they are warped by.
 #[derive(Resource)]
@@ -27,15 +34,16 @@ pub const LENS_DIMENSION: u32 = 1;
 pub fn start_pass(
     settings: Res<RenderSettings>,
     pass: Res<PassIndex>,
+    chunk: Res<ChunkRange>,
     sampling: Res<CameraSampling>,
     mut batch: ResMut<PathBatch>,
 ) {
     let width = settings.width;
     let seed = settings.seed;
     let pass = pass.0;
-    let n = settings.pixel_count();
+    let first = chunk.first;
     let batch = &mut *batch;
-    batch.resize(n);
+    batch.resize(chunk.count as usize);
     (
         &mut batch.pixel[..],
         &mut batch.film_position[..],
@@ -52,7 +60,7 @@ pub fn start_pass(
         .with_min_len(1024)
         .for_each(
             |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
-                let i = i as u32;
+                let i = first + i as u32;
                 let centre = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
                 *pixel = i;
                 *film = centre
