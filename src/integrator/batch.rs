@@ -37,18 +37,27 @@ macro_rules! path_batch {
                 self.len = count;
                 $(
                     resize(&mut self.$field, count, $init);
-                    self.spare.$field.clear();
-                    self.spare.$field.reserve(count);
+                    self.spare.$field.reserve(count.saturating_sub(self.spare.$field.len()));
                 )*
             }
 
-            /// Moves the first `live` paths of the partition's order to the front.
+            /// Moves the first `live` paths of the partition's order to the front: one parallel
+            /// loop over blocks of the order, each gathering every field.
             fn gather_live(&mut self, live: usize) {
                 let order = &self.partition.order[..live];
-                $(
-                    gather(&self.$field, order, &mut self.spare.$field);
-                    std::mem::swap(&mut self.$field, &mut self.spare.$field);
-                )*
+                $(resize(&mut self.spare.$field, live, $init);)*
+                // One tuple element per field (rayon zips up to 12): the spare columns' blocks.
+                let targets = ($(self.spare.$field.par_chunks_mut(GATHER_BLOCK),)*);
+                (order.par_chunks(GATHER_BLOCK), targets)
+                    .into_par_iter()
+                    .for_each(|(order, ($($field,)*))| {
+                        $(
+                            for (target, &slot) in $field.iter_mut().zip(order) {
+                                *target = self.$field[slot as usize].clone();
+                            }
+                        )*
+                    });
+                $(std::mem::swap(&mut self.$field, &mut self.spare.$field);)*
                 self.len = live;
             }
         }
@@ -178,11 +187,8 @@ fn write_slots(
     );
 }
 
-/// `target = source[order]`, in parallel, within `target`'s capacity.
-fn gather<T: Clone + Send + Sync>(source: &[T], order: &[u32], target: &mut Vec<T>) {
-    target.clear();
-    target.par_extend(order.par_iter().map(|&slot| source[slot as usize].clone()));
-}
+/// Paths per task of the gather.
+const GATHER_BLOCK: usize = 1024;
 
 /// Closest hits of the path rays, slot for slot.
 #[derive(Resource, Default)]

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::batch::PathBatch;
 use crate::film::PixelFilter;
-use crate::sampling::{PathRng, PixelSampler};
+use crate::sampling::{Divisor, PathRng, PixelSampler};
 use crate::settings::RenderSettings;
 
 /// Which pass (sample index per pixel) is running.
@@ -38,10 +38,11 @@ pub fn start_pass(
     sampling: Res<CameraSampling>,
     mut batch: ResMut<PathBatch>,
 ) {
-    let width = settings.width;
+    let width = Divisor::new(settings.width);
     let seed = settings.seed;
     let pass = pass.0;
     let first = chunk.first;
+    let sampler = sampling.sampler.pass(pass);
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
     (
@@ -61,12 +62,12 @@ pub fn start_pass(
         .for_each(
             |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
                 let i = first + i as u32;
-                let centre = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+                let centre = Vec2::new(
+                    width.remainder(i) as f32 + 0.5,
+                    width.quotient(i) as f32 + 0.5,
+                );
                 *pixel = i;
-                *film = centre
-                    + sampling
-                        .filter
-                        .sample(sampling.sampler.sample_2d(i, pass, FILM_DIMENSION));
+                *film = centre + sampling.filter.sample(sampler.sample_2d(i, FILM_DIMENSION));
                 *rng = PathRng::new(seed, i, pass);
                 *throughput = glam::Vec3::ONE;
                 *radiance = glam::Vec3::ZERO;
