@@ -32,12 +32,13 @@ macro_rules! path_batch {
         impl PathBatch {
             /// Sizes the batch for a chunk of `count` paths, reusing the allocations (the spare
             /// columns too, so that compaction allocates nothing); the chunk's first stage then
-            /// sets every field of every slot.
+            /// sets every field of every slot. The columns keep that length while `len` shrinks,
+            /// so that the chunks of a pass size nothing anew.
             pub fn resize(&mut self, count: usize) {
                 self.len = count;
                 $(
                     resize(&mut self.$field, count, $init);
-                    self.spare.$field.reserve(count.saturating_sub(self.spare.$field.len()));
+                    resize(&mut self.spare.$field, count, $init);
                 )*
             }
 
@@ -45,9 +46,8 @@ macro_rules! path_batch {
             /// loop over blocks of the order, each gathering every field.
             fn gather_live(&mut self, live: usize) {
                 let order = &self.partition.order[..live];
-                $(resize(&mut self.spare.$field, live, $init);)*
                 // One tuple element per field (rayon zips up to 12): the spare columns' blocks.
-                let targets = ($(self.spare.$field.par_chunks_mut(GATHER_BLOCK),)*);
+                let targets = ($(self.spare.$field[..live].par_chunks_mut(GATHER_BLOCK),)*);
                 (order.par_chunks(GATHER_BLOCK), targets)
                     .into_par_iter()
                     .for_each(|(order, ($($field,)*))| {

@@ -149,12 +149,8 @@ fn permute(mut i: u32, length: Divisor, p: u32) -> u32 {
     if l <= 1 {
         return 0;
     }
-    let mut w = l - 1;
-    w |= w >> 1;
-    w |= w >> 2;
-    w |= w >> 4;
-    w |= w >> 8;
-    w |= w >> 16;
+    // All ones below the highest set bit of l - 1.
+    let w = u32::MAX >> (l - 1).leading_zeros();
     loop {
         i ^= p;
         i = i.wrapping_mul(0xe170_893d);
