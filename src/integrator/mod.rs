@@ -38,9 +38,11 @@ use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
 use start_pass::{ChunkRange, PassIndex, start_pass};
 use trace::{trace_closest_hits, trace_shadow_rays};
 
-/// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise: chosen by
-/// measurement (see `foton bench --chunk-paths`); at ~100 bytes of batch state per path, plus its
-/// hit and shadow ray, a chunk's batches fit in a 2-4 MB cache.
+/// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
+/// batch state per path (twice, with the compaction's spare columns), plus its hit and shadow
+/// ray, a chunk of 16k keeps its batches within a few MB of cache. Not yet tuned: on a shared
+/// machine the timings of 4k, 16k and 64k varied more between runs than between sizes; compare
+/// them with `foton bench --chunk-paths` on a quiet one.
 pub const DEFAULT_CHUNK_PATHS: usize = 16 * 1024;
 
 /// The world and the schedules that render it.
