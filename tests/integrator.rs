@@ -63,6 +63,65 @@ fn same_seed_gives_the_same_image_whatever_the_thread_count() {
     assert_ne!(one, other_seed, "the seed must change the noise");
 }
 
+/// Renders the test box in chunks of `chunk_paths` on `threads` threads, stopping when `go_on`
+/// says so.
+fn render_in_chunks(
+    chunk_paths: usize,
+    threads: usize,
+    go_on: impl FnMut(foton::integrator::Progress) -> bool + Send,
+) -> (Vec<Vec3>, foton::integrator::RenderStats) {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+        .install(|| {
+            let (world, _) = foton::scene::build::build_world(test_box(), &options(4, 6));
+            let mut renderer = foton::integrator::Renderer::new(world);
+            renderer.set_chunk_paths(chunk_paths);
+            let stats = renderer.render(go_on);
+            (renderer.image(), stats)
+        })
+}
+
+/// Chunks change where a pass's paths are traced, never what they compute: several chunks per
+/// pass (97 paths, the last one ragged, against the test box's 1200 pixels) give the image of
+/// one chunk per pass, bit for bit, on 1 and on 3 threads.
+#[test]
+fn chunks_per_pass_do_not_change_the_image() {
+    let (whole, stats) = render_in_chunks(1 << 20, 1, |_| true);
+    assert_eq!((stats.passes, stats.paths), (4, 4 * 1200));
+    assert!(stats.complete_passes);
+    for threads in [1, 3] {
+        let (chunked, stats) = render_in_chunks(97, threads, |_| true);
+        assert_eq!((stats.passes, stats.paths), (4, 4 * 1200));
+        assert!(whole == chunked, "{threads} threads");
+    }
+}
+
+/// Progress comes after every chunk, and a render stopped within a pass keeps the samples of
+/// its finished chunks (those pixels have one sample more) and says the pass is incomplete.
+#[test]
+fn a_render_stops_within_a_pass_and_keeps_its_chunks() {
+    let mut told = Vec::new();
+    let (one_pass, _) = render_in_chunks(97, 2, |p| p.passes_done < 1);
+    let (partial, stats) = render_in_chunks(97, 2, |p| {
+        told.push((p.paths_done, p.paths_total, p.passes_done));
+        p.paths_done < 1200 + 3 * 97
+    });
+    let expected: Vec<_> = (1..=16)
+        .map(|chunk| {
+            let done = (chunk * 97).min(1200) + if chunk > 13 { (chunk - 13) * 97 } else { 0 };
+            (done as u64, 4 * 1200, u32::from(chunk >= 13))
+        })
+        .collect();
+    assert_eq!(told, expected);
+    assert_eq!((stats.passes, stats.paths), (1, 1200 + 3 * 97));
+    assert!(!stats.complete_passes);
+    // The second pass's chunks reached pixels 0..291 only: the others keep their first sample.
+    assert!(partial[3 * 97..] == one_pass[3 * 97..]);
+    assert!(partial[..3 * 97] != one_pass[..3 * 97]);
+}
+
 #[test]
 fn every_pixel_is_finite_and_non_negative_for_both_integrators() {
     for integrator in [IntegratorKind::PathTracer, IntegratorKind::RayCaster] {

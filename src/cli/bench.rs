@@ -1,21 +1,42 @@
 //! `foton bench`: wavefront throughput on a scene, as the median of repeated renders measured
-//! in one process (these machines are shared and noisy: compare ratios from one run).
+//! in one process (these machines are shared and noisy: compare ratios from one run), and with
+//! `--stages` where the time goes, stage by stage.
 
 use super::SceneArgs;
 use super::render::{prepare, render_with_progress, summary};
+use crate::integrator::{Renderer, StageTime};
 
-pub fn run(args: &SceneArgs, repeat: u32) -> Result<(), String> {
+pub fn run(
+    args: &SceneArgs,
+    repeat: u32,
+    stages: bool,
+    chunk_paths: Option<usize>,
+) -> Result<(), String> {
+    let setup = |renderer: &mut Renderer| {
+        if let Some(paths) = chunk_paths {
+            renderer.set_chunk_paths(paths);
+        }
+        if stages {
+            renderer.time_stages();
+        }
+    };
     let mut warm_up = prepare(args)?;
+    setup(&mut warm_up.renderer);
     println!(
         "warm-up: {}",
         summary(&render_with_progress(&mut warm_up.renderer))
     );
     let mut rates = Vec::new();
+    let mut runs = Vec::new();
     for i in 0..repeat.max(1) {
         let mut prepared = prepare(args)?;
+        setup(&mut prepared.renderer);
         let stats = render_with_progress(&mut prepared.renderer);
         println!("run {}: {}", i + 1, summary(&stats));
         rates.push(stats.paths_per_second() / 1e6);
+        if let Some(times) = prepared.renderer.stage_times() {
+            runs.push(times.to_vec());
+        }
     }
     rates.sort_by(f64::total_cmp);
     println!(
@@ -25,5 +46,36 @@ pub fn run(args: &SceneArgs, repeat: u32) -> Result<(), String> {
         rates[0],
         rates[rates.len() - 1]
     );
+    if !runs.is_empty() {
+        print_stages(&runs);
+    }
     Ok(())
+}
+
+/// Each stage's median time over the runs, its share of the stages' total and its throughput.
+fn print_stages(runs: &[Vec<StageTime>]) {
+    let median = |stage: usize| {
+        let mut times: Vec<f64> = runs.iter().map(|r| r[stage].time.as_secs_f64()).collect();
+        times.sort_by(f64::total_cmp);
+        times[times.len() / 2]
+    };
+    let medians: Vec<f64> = (0..runs[0].len()).map(median).collect();
+    let total: f64 = medians.iter().sum();
+    println!(
+        "{:<28} {:>9} {:>7} {:>12} {:>12}",
+        "stage (median of runs)", "time ms", "share", "items", "M items/s"
+    );
+    for (stage, time) in runs[0].iter().zip(&medians) {
+        println!(
+            "{:<28} {:>9.1} {:>6.1}% {:>12} {:>12.2}",
+            stage.name,
+            time * 1e3,
+            100.0 * time / total.max(1e-12),
+            stage.items,
+            stage.items as f64 / time.max(1e-12) / 1e6
+        );
+    }
+    println!(
+        "items: camera paths for the chunk start, shadow rays for trace_shadow_rays, live paths otherwise"
+    );
 }

@@ -154,6 +154,12 @@ struct BenchArgs {
     /// Timed renders after one warm-up.
     #[arg(long, default_value_t = 5)]
     repeat: u32,
+    /// Time every stage: its share of the time and its rays (or paths) per second.
+    #[arg(long)]
+    stages: bool,
+    /// Camera paths per chunk of the wavefront (default: the renderer's).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    chunk_paths: Option<u64>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -274,7 +280,12 @@ pub fn run() -> ExitCode {
     render::stop_gracefully_on_interrupt();
     let result = match cli.command {
         Command::Render(args) => render::run(&args.scene, args.output, args.exposure, args.repeat),
-        Command::Bench(args) => bench::run(&args.scene, args.repeat),
+        Command::Bench(args) => bench::run(
+            &args.scene,
+            args.repeat,
+            args.stages,
+            args.chunk_paths.map(|n| n as usize),
+        ),
         Command::Compare(args) => compare::run(&args.a, &args.b, args.diff, args.json),
         Command::Converge(args) => converge::run(&converge::ConvergeArgs {
             scene: &args.scene,

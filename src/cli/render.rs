@@ -100,15 +100,19 @@ pub fn stop_gracefully_on_interrupt() {
 
 /// Renders, with a progress bar and ETA on a terminal.
 pub fn render_with_progress(renderer: &mut Renderer) -> RenderStats {
-    let passes = renderer.samples_per_pixel() as u64;
-    let bar = ProgressBar::new(passes);
+    let spp = renderer.samples_per_pixel();
+    let bar = ProgressBar::new(1);
     bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp, ETA {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
+        ProgressStyle::with_template(&format!(
+            "{{elapsed_precise}} [{{bar:40}}] {{msg}}/{spp} spp, ETA {{eta}}"
+        ))
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
     );
-    let stats = renderer.render(|done| {
-        bar.set_position(done as u64);
+    let stats = renderer.render(|progress| {
+        bar.set_length(progress.paths_total);
+        bar.set_position(progress.paths_done);
+        bar.set_message(progress.passes_done.to_string());
         !INTERRUPTED.load(Ordering::Relaxed)
     });
     bar.finish_and_clear();

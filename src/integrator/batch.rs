@@ -1,91 +1,199 @@
-//! The wavefront batches: structure-of-arrays state of every live path, allocated once per
-//! render and reused by every pass and bounce. Slot `i` of each array belongs to path `i`;
-//! live paths are kept contiguous in `0..len` by [`PathBatch::compact`].
+//! The wavefront batches: structure-of-arrays state of the live paths of one chunk, allocated
+//! once per render and reused by every chunk and bounce. Slot `i` of each array belongs to path
+//! `i`; live paths are kept contiguous in `0..len` by [`PathBatch::retire`].
 
 use bevy_ecs::prelude::Resource;
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use crate::accel::Hit;
 use crate::sampling::PathRng;
 
-/// One path per slot.
-#[derive(Resource, Default)]
-pub struct PathBatch {
-    /// Live paths are `0..len`.
-    pub len: usize,
-    pub pixel: Vec<u32>,
+/// Declares the per-path fields once; the batch, its spare columns (the target of compaction),
+/// `resize` and the compaction's gather are all derived from this list.
+macro_rules! path_batch {
+    ($($(#[$doc:meta])* $field:ident: $ty:ty = $init:expr,)*) => {
+        /// One path per slot.
+        #[derive(Resource, Default)]
+        pub struct PathBatch {
+            /// Live paths are `0..len`.
+            pub len: usize,
+            $($(#[$doc])* pub $field: Vec<$ty>,)*
+            /// Where compaction gathers the live paths to, swapped in afterwards.
+            spare: SpareColumns,
+            partition: Partition,
+        }
+
+        #[derive(Default)]
+        struct SpareColumns {
+            $($field: Vec<$ty>,)*
+        }
+
+        impl PathBatch {
+            /// Sizes the batch for a chunk of `count` paths, reusing the allocations (the spare
+            /// columns too, so that compaction allocates nothing); the chunk's first stage then
+            /// sets every field of every slot. The columns keep that length while `len` shrinks,
+            /// so that the chunks of a pass size nothing anew.
+            pub fn resize(&mut self, count: usize) {
+                self.len = count;
+                $(
+                    resize(&mut self.$field, count, $init);
+                    resize(&mut self.spare.$field, count, $init);
+                )*
+            }
+
+            /// Moves the first `live` paths of the partition's order to the front: one parallel
+            /// loop over blocks of the order, each gathering every field.
+            fn gather_live(&mut self, live: usize) {
+                let order = &self.partition.order[..live];
+                // One tuple element per field (rayon zips up to 12): the spare columns' blocks.
+                let targets = ($(self.spare.$field[..live].par_chunks_mut(GATHER_BLOCK),)*);
+                (order.par_chunks(GATHER_BLOCK), targets)
+                    .into_par_iter()
+                    .for_each(|(order, ($($field,)*))| {
+                        $(
+                            for (target, &slot) in $field.iter_mut().zip(order) {
+                                *target = self.$field[slot as usize].clone();
+                            }
+                        )*
+                    });
+                $(std::mem::swap(&mut self.$field, &mut self.spare.$field);)*
+                self.len = live;
+            }
+        }
+    };
+}
+
+path_batch! {
+    pixel: u32 = 0,
     /// Raster position of the camera sample (pixel centre plus the filter offset).
-    pub film_position: Vec<Vec2>,
+    film_position: Vec2 = Vec2::ZERO,
     /// The ray the path follows next (camera space between ray generation and the lens stages).
-    pub origin: Vec<Vec3>,
-    pub direction: Vec<Vec3>,
+    origin: Vec3 = Vec3::ZERO,
+    direction: Vec3 = Vec3::Z,
     /// The last scattering vertex, where the current ray's direction was sampled (a pass through
     /// a null surface moves `origin`, not this): the point light sampling would have sampled
     /// from, for the MIS weight of an emitter the ray hits. Set by the first scattering.
-    pub vertex: Vec<Vec3>,
+    vertex: Vec3 = Vec3::ZERO,
     /// Product of f |cos| / pdf along the path.
-    pub throughput: Vec<Vec3>,
+    throughput: Vec3 = Vec3::ONE,
     /// Radiance gathered so far.
-    pub radiance: Vec<Vec3>,
+    radiance: Vec3 = Vec3::ZERO,
     /// Bounces taken.
-    pub depth: Vec<u32>,
+    depth: u32 = 0,
     /// Surfaces passed through without scattering (null material), to bound such chains.
-    pub pass_through: Vec<u32>,
-    pub rng: Vec<PathRng>,
+    pass_through: u32 = 0,
+    rng: PathRng = PathRng::new(0, 0, 0),
     /// Solid-angle pdf of the BSDF sample that made the current ray; 0 for the camera ray and delta
     /// lobes (their emitter hits take no MIS weight).
-    pub scatter_pdf: Vec<f32>,
-    /// Cleared by a stage when the path ends; `compact` removes it.
-    pub alive: Vec<bool>,
+    scatter_pdf: f32 = 0.0,
+    /// Cleared by a stage when the path ends; `retire` removes it.
+    alive: bool = true,
 }
 
 impl PathBatch {
-    /// Sizes the batch for a pass of `count` paths, reusing the allocations; the pass's first
-    /// stage then sets every field of every slot.
-    pub fn resize(&mut self, count: usize) {
-        self.len = count;
-        resize(&mut self.pixel, count, 0);
-        resize(&mut self.film_position, count, Vec2::ZERO);
-        resize(&mut self.origin, count, Vec3::ZERO);
-        resize(&mut self.direction, count, Vec3::Z);
-        resize(&mut self.vertex, count, Vec3::ZERO);
-        resize(&mut self.throughput, count, Vec3::ONE);
-        resize(&mut self.radiance, count, Vec3::ZERO);
-        resize(&mut self.depth, count, 0);
-        resize(&mut self.pass_through, count, 0);
-        resize(&mut self.rng, count, PathRng::new(0, 0, 0));
-        resize(&mut self.scatter_pdf, count, 0.0);
-        resize(&mut self.alive, count, true);
-    }
-
-    /// Moves the live paths to the front, keeping their order (so results do not depend on
-    /// scheduling), and returns how many there are.
-    pub fn compact(&mut self) -> usize {
-        let mut kept = 0;
-        for i in 0..self.len {
-            if !self.alive[i] {
-                continue;
-            }
-            if kept != i {
-                self.pixel[kept] = self.pixel[i];
-                self.film_position[kept] = self.film_position[i];
-                self.origin[kept] = self.origin[i];
-                self.direction[kept] = self.direction[i];
-                self.vertex[kept] = self.vertex[i];
-                self.throughput[kept] = self.throughput[i];
-                self.radiance[kept] = self.radiance[i];
-                self.depth[kept] = self.depth[i];
-                self.pass_through[kept] = self.pass_through[i];
-                self.rng[kept] = self.rng[i].clone();
-                self.scatter_pdf[kept] = self.scatter_pdf[i];
-                self.alive[kept] = true;
-            }
-            kept += 1;
+    /// Removes the finished paths, handing each to `finish` with its pixel, film position and
+    /// radiance (slot order, so that results do not depend on scheduling), and moves the live ones
+    /// to the front in their order. Returns how many live.
+    pub fn retire(&mut self, mut finish: impl FnMut(u32, Vec2, Vec3)) -> usize {
+        let n = self.len;
+        let live = self.partition.split(&self.alive[..n]);
+        for &slot in &self.partition.order[live..n] {
+            let slot = slot as usize;
+            finish(self.pixel[slot], self.film_position[slot], self.radiance[slot]);
         }
-        self.len = kept;
-        kept
+        if live < n {
+            self.gather_live(live);
+        }
+        live
     }
 }
+
+/// A stable partition of the slots into live and finished, computed in parallel: each block of
+/// slots counts its live paths, a prefix sum over the counts gives every block its place among
+/// the live and among the finished, and the blocks then write their slot numbers there.
+#[derive(Default)]
+struct Partition {
+    /// Live counts per block.
+    counts: Vec<usize>,
+    /// Slot numbers: the live ones in order, then the finished ones in order.
+    order: Vec<u32>,
+}
+
+/// Slots per block of the partition: small enough to share among threads, large enough that
+/// the per-block bookkeeping is negligible.
+const PARTITION_BLOCK: usize = 4096;
+
+impl Partition {
+    /// Partitions `alive`'s slots; returns how many are live.
+    fn split(&mut self, alive: &[bool]) -> usize {
+        self.counts.clear();
+        self.counts.par_extend(
+            alive
+                .par_chunks(PARTITION_BLOCK)
+                .map(|block| block.iter().filter(|a| **a).count()),
+        );
+        let live = self.counts.iter().sum();
+        resize(&mut self.order, alive.len(), 0);
+        let (live_slots, finished_slots) = self.order.split_at_mut(live);
+        write_slots(alive, &self.counts, 0, live_slots, finished_slots);
+        live
+    }
+}
+
+/// Writes the slot numbers (from `first`) of the live paths of `alive` to `live` and of the others
+/// to `finished`, in order; `counts` holds the live count of each block. Halves the blocks between
+/// two tasks until one is left.
+fn write_slots(
+    alive: &[bool],
+    counts: &[usize],
+    first: usize,
+    live: &mut [u32],
+    finished: &mut [u32],
+) {
+    if counts.len() <= 1 {
+        let (mut l, mut f) = (0, 0);
+        for (i, &a) in alive.iter().enumerate() {
+            let slot = (first + i) as u32;
+            if a {
+                live[l] = slot;
+                l += 1;
+            } else {
+                finished[f] = slot;
+                f += 1;
+            }
+        }
+        return;
+    }
+    let half = counts.len() / 2;
+    let split = half * PARTITION_BLOCK;
+    let live_left = counts[..half].iter().sum();
+    let (live_left, live_right) = live.split_at_mut(live_left);
+    let (finished_left, finished_right) = finished.split_at_mut(split - live_left.len());
+    rayon::join(
+        || {
+            write_slots(
+                &alive[..split],
+                &counts[..half],
+                first,
+                live_left,
+                finished_left,
+            )
+        },
+        || {
+            write_slots(
+                &alive[split..],
+                &counts[half..],
+                first + split,
+                live_right,
+                finished_right,
+            )
+        },
+    );
+}
+
+/// Paths per task of the gather.
+const GATHER_BLOCK: usize = 1024;
 
 /// Closest hits of the path rays, slot for slot.
 #[derive(Resource, Default)]
@@ -137,4 +245,44 @@ impl ShadowBatch {
 fn resize<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
     values.truncate(count);
     values.resize(count, value);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn retire_keeps_live_paths_in_order_and_hands_over_the_rest() {
+        // More than two partition blocks, with a pattern that differs between them.
+        let n = 2 * PARTITION_BLOCK + 123;
+        let mut batch = PathBatch::default();
+        batch.resize(n);
+        for i in 0..n {
+            batch.pixel[i] = i as u32;
+            batch.radiance[i] = Vec3::splat(i as f32);
+            batch.depth[i] = 3 * i as u32;
+            batch.alive[i] = i % 3 == 0 || (PARTITION_BLOCK..PARTITION_BLOCK + 50).contains(&i);
+        }
+        let expected_live: Vec<u32> = (0..n as u32).filter(|&i| batch.alive[i as usize]).collect();
+        let mut finished = Vec::new();
+        let live = batch.retire(|pixel, radiance| finished.push((pixel, radiance)));
+        assert_eq!(live, expected_live.len());
+        assert_eq!(batch.len, live);
+        assert_eq!(batch.pixel[..live], expected_live[..]);
+        for i in 0..live {
+            assert_eq!(batch.depth[i], 3 * batch.pixel[i]);
+            assert_eq!(batch.radiance[i], Vec3::splat(batch.pixel[i] as f32));
+            assert!(batch.alive[i]);
+        }
+        let expected_finished: Vec<u32> = (0..n as u32)
+            .filter(|i| !expected_live.contains(i))
+            .collect();
+        assert_eq!(
+            finished,
+            expected_finished
+                .iter()
+                .map(|&i| (i, Vec3::splat(i as f32)))
+                .collect::<Vec<_>>()
+        );
+    }
 }

@@ -1,11 +1,17 @@
-//! The wavefront integrator: schedules of small systems over the whole batch of live paths.
+//! The wavefront integrator: schedules of small systems over a batch of live paths.
 //!
 //! ```text
 //! startup:  build_scene_geometry → build_light_table
-//! pass:     start_pass → camera (generate → lens → to world)
+//! chunk:    start_pass → camera (generate → lens → to world)
 //! bounce:   trace_closest_hits → shade (path or raycast) → trace_shadow_rays
 //!           → gather_unoccluded_light → retire_finished_paths   (repeated while paths live)
 //! ```
+//!
+//! A pass (one sample per pixel) runs as chunks of consecutive pixels, each traced through all
+//! its bounces before the next, so that a chunk's batches stay in the caches between stages
+//! rather than streaming the whole image through memory at every stage. A path's result depends
+//! only on its pixel, pass and seed, and every pixel takes one sample per pass, so the image is
+//! the same whatever the chunk size and thread count.
 
 pub mod accumulate;
 pub mod batch;
@@ -30,14 +36,67 @@ use accumulate::{gather_unoccluded_light, retire_finished_paths};
 use batch::{HitBatch, PathBatch, ShadowBatch};
 use shade_path::shade_path_vertices;
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
-use start_pass::{CameraSampling, PassIndex, start_pass};
+use start_pass::{CameraSampling, ChunkRange, PassIndex, start_pass};
 use trace::{trace_closest_hits, trace_shadow_rays};
+
+/// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
+/// batch state per path (twice, with the compaction's spare columns), plus its hit and shadow
+/// ray, a chunk of 16k keeps its batches within a few MB of cache. Not yet tuned: on a shared
+/// machine the timings of 4k, 16k and 64k varied more between runs than between sizes; compare
+/// them with `foton bench --chunk-paths` on a quiet one.
+pub const DEFAULT_CHUNK_PATHS: usize = 16 * 1024;
 
 /// The world and the schedules that render it.
 pub struct Renderer {
     pub world: World,
-    pass: Schedule,
-    bounce: Schedule,
+    /// Starts a chunk: fresh paths and their camera rays.
+    chunk: Schedule,
+    /// One bounce, stage by stage.
+    bounce: Vec<Stage>,
+    chunk_paths: usize,
+    /// Time and work per stage, when asked for: the chunk start first, then the bounce stages.
+    stage_times: Option<Vec<StageTime>>,
+}
+
+/// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
+struct Stage {
+    name: &'static str,
+    schedule: Schedule,
+    /// What the stage's work is counted in: the live paths, or the shadow rays.
+    traces_shadow_rays: bool,
+}
+
+impl Stage {
+    fn new<M, S: IntoScheduleConfigs<bevy_ecs::system::ScheduleSystem, M>>(system: S) -> Self {
+        let name = std::any::type_name::<S>();
+        let mut schedule = Schedule::default();
+        schedule.add_systems(system);
+        Self {
+            name: name.rsplit("::").next().unwrap_or(name),
+            schedule,
+            traces_shadow_rays: false,
+        }
+    }
+}
+
+/// Where a stage's time went: its wall-clock time over the render and the items (camera paths,
+/// rays or paths) it processed.
+#[derive(Clone, Debug)]
+pub struct StageTime {
+    pub name: &'static str,
+    pub time: Duration,
+    pub items: u64,
+}
+
+/// How far a render is, told after every chunk.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Camera paths traced so far, over all passes.
+    pub paths_done: u64,
+    /// Camera paths of the whole render (pixels times samples per pixel).
+    pub paths_total: u64,
+    /// Passes completed.
+    pub passes_done: u32,
 }
 
 /// What a render did.
@@ -45,8 +104,11 @@ pub struct Renderer {
 pub struct RenderStats {
     /// Passes completed: samples per pixel.
     pub passes: u32,
-    /// Camera paths traced (pixels times passes).
+    /// Camera paths traced, including those of a pass stopped part way.
     pub paths: u64,
+    /// Whether the render stopped at the end of a pass, every pixel with `passes` samples; if not,
+    /// the pixels of the stopped pass's finished chunks have one sample more.
+    pub complete_passes: bool,
     /// Rays traced: path segments plus shadow rays.
     pub rays: u64,
     pub elapsed: Duration,
@@ -76,6 +138,7 @@ impl Renderer {
 
         let settings = world.resource::<RenderSettings>().clone();
         world.init_resource::<PassIndex>();
+        world.init_resource::<ChunkRange>();
         world.init_resource::<PathBatch>();
         world.init_resource::<HitBatch>();
         let rays_per_path = match settings.integrator {
@@ -84,36 +147,57 @@ impl Renderer {
         };
         world.insert_resource(ShadowBatch::new(rays_per_path));
 
-        let mut pass = Schedule::default();
-        register_cameras(&mut pass, &mut world);
-        pass.add_systems(start_pass.before(CameraStage::Generate));
+        let mut chunk = Schedule::default();
+        register_cameras(&mut chunk, &mut world);
+        chunk.add_systems(start_pass.before(CameraStage::Generate));
 
         // The integrator is the choice of shading stage; every other stage is shared.
-        let mut bounce = Schedule::default();
-        let stages = match settings.integrator {
-            IntegratorKind::PathTracer => (
-                trace_closest_hits,
-                shade_path_vertices,
-                trace_shadow_rays,
-                gather_unoccluded_light,
-                retire_finished_paths,
-            )
-                .chain(),
-            IntegratorKind::RayCaster => (
-                trace_closest_hits,
-                shade_raycast_hits,
-                trace_shadow_rays,
-                gather_unoccluded_light,
-                retire_finished_paths,
-            )
-                .chain(),
+        let shade = match settings.integrator {
+            IntegratorKind::PathTracer => Stage::new(shade_path_vertices),
+            IntegratorKind::RayCaster => Stage::new(shade_raycast_hits),
         };
-        bounce.add_systems(stages);
+        let bounce = vec![
+            Stage::new(trace_closest_hits),
+            shade,
+            Stage {
+                traces_shadow_rays: true,
+                ..Stage::new(trace_shadow_rays)
+            },
+            Stage::new(gather_unoccluded_light),
+            Stage::new(retire_finished_paths),
+        ];
         Self {
             world,
-            pass,
+            chunk,
             bounce,
+            chunk_paths: DEFAULT_CHUNK_PATHS,
+            stage_times: None,
         }
+    }
+
+    /// Sets the camera paths per chunk (at least 1); the image does not depend on it.
+    pub fn set_chunk_paths(&mut self, paths: usize) {
+        self.chunk_paths = paths.max(1);
+    }
+
+    /// Times every stage of the renders that follow (see [`Renderer::stage_times`]).
+    pub fn time_stages(&mut self) {
+        let names =
+            std::iter::once("start_pass + camera").chain(self.bounce.iter().map(|s| s.name));
+        self.stage_times = Some(
+            names
+                .map(|name| StageTime {
+                    name,
+                    time: Duration::ZERO,
+                    items: 0,
+                })
+                .collect(),
+        );
+    }
+
+    /// Time and items per stage so far, if [`Renderer::time_stages`] was called.
+    pub fn stage_times(&self) -> Option<&[StageTime]> {
+        self.stage_times.as_deref()
     }
 
     /// The film's current estimate: mean radiance per pixel, rows from the top.
@@ -199,53 +283,122 @@ impl Renderer {
                 lines.push(format!("camera entity: {}", names.join(" + ")));
             }
         }
-        for (name, schedule) in [("pass", &mut self.pass), ("bounce", &mut self.bounce)] {
-            // Building the schedule's graph here is the same work its first run would do.
-            let _ = schedule.initialize(world);
-            let systems: Vec<String> = schedule
-                .systems()
-                .map(|systems| {
-                    systems
-                        .map(|(_, system)| system.name().shortname().to_string())
-                        .collect()
-                })
-                .unwrap_or_default();
-            lines.push(format!("{name} schedule: {}", systems.join(", ")));
-        }
+        // Building the schedule's graph here is the same work its first run would do.
+        let _ = self.chunk.initialize(world);
+        let systems: Vec<String> = self
+            .chunk
+            .systems()
+            .map(|systems| {
+                systems
+                    .map(|(_, system)| system.name().shortname().to_string())
+                    .collect()
+            })
+            .unwrap_or_default();
+        lines.push(format!(
+            "chunk schedule ({} paths): {}",
+            self.chunk_paths,
+            systems.join(", ")
+        ));
+        let stages: Vec<&str> = self.bounce.iter().map(|stage| stage.name).collect();
+        lines.push(format!("bounce stages: {}", stages.join(", ")));
         lines.join("\n")
     }
 
-    /// Renders passes until the samples per pixel or the time limit are reached, or until
-    /// `on_pass` (told after each pass how many are done) returns false.
-    pub fn render(&mut self, mut on_pass: impl FnMut(u32) -> bool) -> RenderStats {
+    /// Renders passes until the samples per pixel or the time limit (checked at the end of each
+    /// pass) are reached, or until `on_progress`, told after each chunk how far the render is,
+    /// returns false.
+    pub fn render(&mut self, mut on_progress: impl FnMut(Progress) -> bool) -> RenderStats {
         let settings = self.world.resource::<RenderSettings>().clone();
+        let pixels = settings.pixel_count();
+        let chunk = self.chunk_paths.min(pixels.max(1));
+        let paths_total = u64::from(settings.samples_per_pixel) * pixels as u64;
         let start = Instant::now();
-        let mut rays = 0u64;
-        let mut passes = 0;
-        while passes < settings.samples_per_pixel {
+        let (mut rays, mut paths, mut passes) = (0u64, 0u64, 0u32);
+        let mut complete_passes = true;
+        'passes: while passes < settings.samples_per_pixel {
             self.world.resource_mut::<PassIndex>().0 = passes;
-            self.pass.run(&mut self.world);
-            while self.world.resource::<PathBatch>().len > 0 {
-                rays += self.world.resource::<PathBatch>().len as u64;
-                self.bounce.run(&mut self.world);
-                let shadows = self.world.resource::<ShadowBatch>();
-                rays += shadows.t_max.iter().filter(|t| **t > 0.0).count() as u64;
+            for first in (0..pixels).step_by(chunk) {
+                let count = chunk.min(pixels - first);
+                *self.world.resource_mut::<ChunkRange>() = ChunkRange {
+                    first: first as u32,
+                    count: count as u32,
+                };
+                rays += self.trace_chunk(count);
+                paths += count as u64;
+                let pass_done = first + count == pixels;
+                passes += u32::from(pass_done);
+                let progress = Progress {
+                    paths_done: paths,
+                    paths_total,
+                    passes_done: passes,
+                };
+                if !on_progress(progress) {
+                    complete_passes = pass_done;
+                    break 'passes;
+                }
             }
-            passes += 1;
-            let go_on = on_pass(passes);
-            if !go_on
-                || settings
-                    .time_limit
-                    .is_some_and(|limit| start.elapsed() >= limit)
+            if settings
+                .time_limit
+                .is_some_and(|limit| start.elapsed() >= limit)
             {
                 break;
             }
         }
         RenderStats {
             passes,
-            paths: passes as u64 * settings.pixel_count() as u64,
+            paths,
+            complete_passes,
             rays,
             elapsed: start.elapsed(),
         }
+    }
+
+    /// Traces the chunk of `count` camera paths set in [`ChunkRange`] through all its bounces;
+    /// returns the rays traced.
+    fn trace_chunk(&mut self, count: usize) -> u64 {
+        let world = &mut self.world;
+        let mut times = self.stage_times.as_deref_mut();
+        run_timed(
+            &mut self.chunk,
+            world,
+            times.as_deref_mut().map(|t| &mut t[0]),
+            count,
+        );
+        let mut rays = 0;
+        loop {
+            let live = world.resource::<PathBatch>().len;
+            if live == 0 {
+                return rays;
+            }
+            rays += live as u64;
+            for (i, stage) in self.bounce.iter_mut().enumerate() {
+                let mut items = live;
+                if stage.traces_shadow_rays {
+                    let shadows = world.resource::<ShadowBatch>();
+                    items = shadows.t_max.iter().filter(|t| **t > 0.0).count();
+                    rays += items as u64;
+                }
+                let time = times.as_deref_mut().map(|t| &mut t[i + 1]);
+                run_timed(&mut stage.schedule, world, time, items);
+            }
+        }
+    }
+}
+
+/// Runs `schedule`, adding its time and `items` to `time` when stages are timed.
+fn run_timed(
+    schedule: &mut Schedule,
+    world: &mut World,
+    time: Option<&mut StageTime>,
+    items: usize,
+) {
+    match time {
+        Some(time) => {
+            let start = Instant::now();
+            schedule.run(world);
+            time.time += start.elapsed();
+            time.items += items as u64;
+        }
+        None => schedule.run(world),
     }
 }

@@ -1,4 +1,4 @@
-//! The first stage of a pass: one fresh path per pixel, with its film sample.
+//! The first stage of a chunk: one fresh path per pixel of the chunk, with its film sample.
 
 use bevy_ecs::prelude::*;
 use glam::Vec2;
@@ -6,12 +6,19 @@ use rayon::prelude::*;
 
 use super::batch::PathBatch;
 use crate::film::PixelFilter;
-use crate::sampling::{PathRng, PixelSampler};
+use crate::sampling::{Divisor, PathRng, PixelSampler};
 use crate::settings::RenderSettings;
 
 /// Which pass (sample index per pixel) is running.
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct PassIndex(pub u32);
+
+/// The pixels of the running pass that the chunk traces: `first..first + count`.
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct ChunkRange {
+    pub first: u32,
+    pub count: u32,
+}
 
 /// The pixel and lens sample patterns and the pixel filter they are warped by.
 #[derive(Resource)]
@@ -27,15 +34,17 @@ pub const LENS_DIMENSION: u32 = 1;
 pub fn start_pass(
     settings: Res<RenderSettings>,
     pass: Res<PassIndex>,
+    chunk: Res<ChunkRange>,
     sampling: Res<CameraSampling>,
     mut batch: ResMut<PathBatch>,
 ) {
-    let width = settings.width;
+    let width = Divisor::new(settings.width);
     let seed = settings.seed;
     let pass = pass.0;
-    let n = settings.pixel_count();
+    let first = chunk.first;
+    let sampler = sampling.sampler.pass(pass);
     let batch = &mut *batch;
-    batch.resize(n);
+    batch.resize(chunk.count as usize);
     (
         &mut batch.pixel[..],
         &mut batch.film_position[..],
@@ -52,13 +61,13 @@ pub fn start_pass(
         .with_min_len(1024)
         .for_each(
             |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
-                let i = i as u32;
-                let centre = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+                let i = first + i as u32;
+                let centre = Vec2::new(
+                    width.remainder(i) as f32 + 0.5,
+                    width.quotient(i) as f32 + 0.5,
+                );
                 *pixel = i;
-                *film = centre
-                    + sampling
-                        .filter
-                        .sample(sampling.sampler.sample_2d(i, pass, FILM_DIMENSION));
+                *film = centre + sampling.filter.sample(sampler.sample_2d(i, FILM_DIMENSION));
                 *rng = PathRng::new(seed, i, pass);
                 *throughput = glam::Vec3::ONE;
                 *radiance = glam::Vec3::ZERO;

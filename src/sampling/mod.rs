@@ -3,6 +3,7 @@
 
 pub mod alias;
 pub mod distribution;
+mod divisor;
 mod hash;
 pub mod pixel_sampler;
 pub mod rng;
@@ -10,7 +11,8 @@ pub mod warp;
 
 pub use alias::AliasTable;
 pub use distribution::{Distribution1D, Distribution2D};
-pub use pixel_sampler::{PixelSampler, SamplerKind};
+pub use divisor::Divisor;
+pub use pixel_sampler::{PassSampler, PixelSampler, SamplerKind};
 pub use rng::PathRng;
 
 /// The largest f32 below 1 (1 - 2^-24): samples are clamped to it so that they stay in [0, 1).

@@ -4,6 +4,7 @@
 use glam::Vec2;
 
 use super::ONE_MINUS_EPSILON;
+use super::divisor::Divisor;
 use super::hash::{fold32, hash_words, unit_f32};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,14 +19,27 @@ pub enum SamplerKind {
 ///
 /// Sample indices `s >= spp` belong to a further pass ("epoch" `s / spp`) that gets its own,
 /// independent pattern: a render may run more passes than planned.
+///
+/// The counts it divides by are [`Divisor`]s, as every sample divides by them several times.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
     kind: SamplerKind,
-    spp: u32,
+    spp: Divisor,
     seed: u64,
     /// Grid columns and rows: m * n >= spp.
-    m: u32,
-    n: u32,
+    m: Divisor,
+    n: Divisor,
+    /// m * n.
+    strata: Divisor,
+}
+
+/// The sampler for one sample index (one pass over the image), with what depends only on the
+/// index worked out once for all pixels.
+pub struct PassSampler<'a> {
+    sampler: &'a PixelSampler,
+    /// The sample index within its epoch, and the epoch.
+    s: u32,
+    epoch: u32,
 }
 
 impl PixelSampler {
@@ -54,43 +68,61 @@ impl PixelSampler {
         let n = spp.div_ceil(m);
         Self {
             kind,
-            spp,
+            spp: Divisor::new(spp),
             seed,
-            m,
-            n,
+            m: Divisor::new(m),
+            n: Divisor::new(n),
+            strata: Divisor::new(m * n),
         }
     }
 
     /// A 2D sample in [0,1)^2 for sample `sample_index` of `pixel` in `dimension` (0: the film
     /// position, 1: the lens, further dimensions are allowed).
     pub fn sample_2d(&self, pixel: u32, sample_index: u32, dimension: u32) -> Vec2 {
-        let epoch = sample_index / self.spp;
-        let s = sample_index % self.spp;
+        self.pass(sample_index).sample_2d(pixel, dimension)
+    }
+
+    /// The sampler for sample `sample_index` of every pixel.
+    pub fn pass(&self, sample_index: u32) -> PassSampler<'_> {
+        PassSampler {
+            sampler: self,
+            s: self.spp.remainder(sample_index),
+            epoch: self.spp.quotient(sample_index),
+        }
+    }
+}
+
+impl PassSampler<'_> {
+    /// A 2D sample in [0,1)^2 for this pass's sample of `pixel` in `dimension`.
+    pub fn sample_2d(&self, pixel: u32, dimension: u32) -> Vec2 {
+        let sampler = self.sampler;
+        let s = self.s;
         let key = hash_words(&[
-            self.seed,
+            sampler.seed,
             u64::from(pixel),
             u64::from(dimension),
-            u64::from(epoch),
+            u64::from(self.epoch),
         ]);
-        let p = match self.kind {
+        let p = match sampler.kind {
             SamplerKind::Independent => {
                 let h = hash_words(&[key, u64::from(s)]);
                 Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32))
             }
-            SamplerKind::Stratified => self.jittered(s, key),
-            SamplerKind::MultiJittered => cmj(s, self.spp, self.m, self.n, fold32(key)),
+            SamplerKind::Stratified => self.jittered(key),
+            SamplerKind::MultiJittered => cmj(s, sampler.spp, sampler.m, sampler.n, fold32(key)),
         };
         p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
     }
 
     /// Jittered sampling: sample `s` goes to stratum permute(s) of the m x n grid, the
     /// permutation seeded per (pixel, dimension, epoch) so that dimensions are decorrelated.
-    fn jittered(&self, s: u32, key: u64) -> Vec2 {
-        let stratum = permute(s, self.m * self.n, fold32(key));
+    fn jittered(&self, key: u64) -> Vec2 {
+        let (s, m, n) = (self.s, self.sampler.m, self.sampler.n);
+        let stratum = permute(s, self.sampler.strata, fold32(key));
         let h = hash_words(&[key, u64::from(s)]);
         let jitter = Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32));
-        (Vec2::new((stratum % self.m) as f32, (stratum / self.m) as f32) + jitter)
-            / Vec2::new(self.m as f32, self.n as f32)
+        (Vec2::new(m.remainder(stratum) as f32, m.quotient(stratum) as f32) + jitter)
+            / Vec2::new(m.get() as f32, n.get() as f32)
     }
 }
 
@@ -98,30 +130,27 @@ impl PixelSampler {
 /// Sampling", Pixar Technical Memo 13-01, §5 (final listing, aspect a = 1). Sample `s` (already
 /// in 0..N) is shuffled, the columns and rows of the m x n grid are permuted as wholes
 /// ("correlated" shuffles), and the result is a Latin hypercube in x and y at resolution N.
-fn cmj(s: u32, big_n: u32, m: u32, n: u32, p: u32) -> Vec2 {
+fn cmj(s: u32, big_n: Divisor, m: Divisor, n: Divisor, p: u32) -> Vec2 {
     let s = permute(s, big_n, p.wrapping_mul(0x5163_3e2d));
-    let sx = permute(s % m, m, p.wrapping_mul(0x68bc_21eb));
-    let sy = permute(s / m, n, p.wrapping_mul(0x02e5_be93));
+    let sx = permute(m.remainder(s), m, p.wrapping_mul(0x68bc_21eb));
+    let sy = permute(m.quotient(s), n, p.wrapping_mul(0x02e5_be93));
     let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
     let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
     Vec2::new(
-        (sx as f32 + (sy as f32 + jx) / n as f32) / m as f32,
-        (s as f32 + jy) / big_n as f32,
+        (sx as f32 + (sy as f32 + jx) / n.get() as f32) / m.get() as f32,
+        (s as f32 + jy) / big_n.get() as f32,
     )
 }
 
 /// Kensler 2013, §3: the element at `i` of a pseudo-random permutation of 0..l selected by `p`.
 /// A hash that is a bijection on the next power of two, with cycle-walking down to l.
-fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+fn permute(mut i: u32, length: Divisor, p: u32) -> u32 {
+    let l = length.get();
     if l <= 1 {
         return 0;
     }
-    let mut w = l - 1;
-    w |= w >> 1;
-    w |= w >> 2;
-    w |= w >> 4;
-    w |= w >> 8;
-    w |= w >> 16;
+    // All ones below the highest set bit of l - 1.
+    let w = u32::MAX >> (l - 1).leading_zeros();
     loop {
         i ^= p;
         i = i.wrapping_mul(0xe170_893d);
@@ -145,7 +174,7 @@ fn permute(mut i: u32, l: u32, p: u32) -> u32 {
             break;
         }
     }
-    i.wrapping_add(p) % l
+    length.remainder(i.wrapping_add(p))
 }
 
 /// Kensler 2013, §3: a hash of (i, p) to a float in [0, 1).
@@ -179,7 +208,7 @@ mod tests {
             for p in [0, 1, 0xdead_beef] {
                 let mut seen = vec![false; l as usize];
                 for i in 0..l {
-                    let j = permute(i, l, p) as usize;
+                    let j = permute(i, Divisor::new(l), p) as usize;
                     assert!(!seen[j]);
                     seen[j] = true;
                 }
@@ -217,7 +246,7 @@ mod tests {
             (7, false),
         ] {
             let sampler = PixelSampler::new(SamplerKind::Stratified, spp, 11);
-            let (m, n) = (sampler.m, sampler.n);
+            let (m, n) = (sampler.m.get(), sampler.n.get());
             assert_eq!(m * n == spp, exact, "{spp}: {m} x {n}");
             assert!(m * n >= spp && m.max(n) <= 2 * m.min(n));
             for pixel in 0..50 {
@@ -242,7 +271,7 @@ mod tests {
     fn cmj_is_latin_hypercube_and_jittered() {
         for spp in [16, 64, 256] {
             let sampler = PixelSampler::new(SamplerKind::MultiJittered, spp, 5);
-            let m = sampler.m;
+            let m = sampler.m.get();
             assert_eq!(m * m, spp);
             for pixel in 0..30 {
                 for dim in 0..2 {
