@@ -17,6 +17,7 @@
 mod aabb;
 mod bvh;
 mod plane;
+mod primitive;
 mod sphere;
 mod triangle;
 
@@ -28,6 +29,7 @@ use rayon::prelude::*;
 
 use bvh::{BuildPrim, Bvh, Ray};
 use plane::Plane;
+pub use primitive::{PrimitiveIds, PrimitiveRef};
 use sphere::Sphere;
 use triangle::Triangle;
 
@@ -46,8 +48,7 @@ pub struct PlaneInstance {
     pub normal: Vec3,
 }
 
-/// The scene's primitives, in world space. Primitive ids number the triangles first (0..n_tri),
-/// then the spheres, then the planes.
+/// The scene's primitives, in world space. [`PrimitiveIds`] numbers them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Primitives {
     pub triangles: Vec<[Vec3; 3]>,
@@ -84,13 +85,12 @@ pub struct Accel {
     ids: Vec<u32>,
     /// Per slot: the triangle (a never-hit zero triangle in sphere slots).
     triangles: Vec<Triangle>,
-    /// Per sphere, in original order (index `id - n_triangles`).
+    /// Per sphere, in original order.
     spheres: Vec<Sphere>,
     planes: Vec<Plane>,
-    n_triangles: u32,
+    prim_ids: PrimitiveIds,
     /// Whether any slot holds a sphere: selects the traversal instance.
     has_spheres: bool,
-    primitive_count: usize,
     stats: BuildStats,
 }
 
@@ -102,34 +102,32 @@ impl Accel {
     /// subtrees) and prepares the planes.
     pub fn build(primitives: &Primitives) -> Accel {
         let start = Instant::now();
-        let n_triangles = primitives.triangles.len();
+        let prim_ids = PrimitiveIds::new(primitives);
         let triangle_prims = (primitives.triangles.iter().enumerate())
-            .filter_map(|(i, t)| Some(BuildPrim::new(Triangle::bounds(t)?, i as u32)));
-        let sphere_prims = (primitives.spheres.iter().enumerate()).filter_map(|(i, s)| {
-            Some(BuildPrim::new(Sphere::bounds(s)?, (n_triangles + i) as u32))
-        });
+            .filter_map(|(i, t)| Some(BuildPrim::new(Triangle::bounds(t)?, prim_ids.triangle(i))));
+        let sphere_prims = (primitives.spheres.iter().enumerate())
+            .filter_map(|(i, s)| Some(BuildPrim::new(Sphere::bounds(s)?, prim_ids.sphere(i))));
         let mut prims: Vec<BuildPrim> = triangle_prims.chain(sphere_prims).collect();
         let (bvh, shape) = Bvh::build(&mut prims);
 
         let ids: Vec<u32> = prims.iter().map(|p| p.id).collect();
         let triangles = (ids.iter())
-            .map(|&id| match primitives.triangles.get(id as usize) {
-                Some(t) => Triangle::new(t),
-                None => Triangle::default(),
+            .map(|&id| match prim_ids.decode(id) {
+                Some(PrimitiveRef::Triangle(i)) => Triangle::new(&primitives.triangles[i]),
+                _ => Triangle::default(),
             })
             .collect();
-        let first_plane = n_triangles + primitives.spheres.len();
         let planes = (primitives.planes.iter().enumerate())
-            .filter_map(|(i, p)| Plane::new(p, (first_plane + i) as u32))
+            .filter_map(|(i, p)| Plane::new(p, prim_ids.plane(i)))
             .collect();
         Accel {
-            has_spheres: ids.iter().any(|&id| id as usize >= n_triangles),
+            has_spheres: (ids.iter())
+                .any(|&id| matches!(prim_ids.decode(id), Some(PrimitiveRef::Sphere(_)))),
             ids,
             triangles,
             spheres: primitives.spheres.iter().map(Sphere::new).collect(),
             planes,
-            n_triangles: n_triangles as u32,
-            primitive_count: first_plane + primitives.planes.len(),
+            prim_ids,
             stats: BuildStats {
                 nodes: bvh.node_count(),
                 leaves: shape.leaves,
@@ -147,7 +145,12 @@ impl Accel {
 
     /// The number of primitive ids: triangles + spheres + planes, degenerate ones included.
     pub fn primitive_count(&self) -> usize {
-        self.primitive_count
+        self.prim_ids.count()
+    }
+
+    /// How the primitive ids of the hits are numbered.
+    pub fn ids(&self) -> &PrimitiveIds {
+        &self.prim_ids
     }
 
     /// Closest hit with t in (t_min, t_max), ray p = origin + t * dir (dir need not be unit
@@ -285,11 +288,13 @@ impl Accel {
     ) -> bool {
         let (o, d) = (ray.origin, ray.dir);
         for (slot, triangle) in slots.clone().zip(&self.triangles[slots]) {
-            let hit = if SPHERES && self.ids[slot] >= self.n_triangles {
-                let sphere = &self.spheres[(self.ids[slot] - self.n_triangles) as usize];
-                sphere.intersect(o, d, t_min, *t_max).map(|t| (t, 0.0, 0.0))
-            } else {
-                triangle.intersect(o, d, t_min, *t_max)
+            let sphere = match self.prim_ids.decode(self.ids[slot]) {
+                Some(PrimitiveRef::Sphere(i)) if SPHERES => Some(&self.spheres[i]),
+                _ => None,
+            };
+            let hit = match sphere {
+                Some(sphere) => sphere.intersect(o, d, t_min, *t_max).map(|t| (t, 0.0, 0.0)),
+                None => triangle.intersect(o, d, t_min, *t_max),
             };
             if let Some((t, u, v)) = hit {
                 *t_max = t;
