@@ -36,12 +36,9 @@ impl AreaLight {
     pub fn new(shape: &EmissiveShape, geometry: &SceneGeometry) -> Option<Self> {
         let decode = |id: &u32| geometry.ids.decode(*id);
         let shape_kind = match decode(shape.primitives.first()?)? {
-            PrimitiveRef::Triangle(_) => {
+            PrimitiveRef::Triangle(_) | PrimitiveRef::InstanceTriangle { .. } => {
                 let triangles: Vec<[Vec3; 3]> = (shape.primitives.iter())
-                    .filter_map(|id| match decode(id)? {
-                        PrimitiveRef::Triangle(i) => Some(geometry.triangles[i]),
-                        _ => None,
-                    })
+                    .filter_map(|id| geometry.world_triangle(decode(id)?))
                     .collect();
                 let areas: Vec<f32> = triangles.iter().map(triangle_area).collect();
                 let area: f32 = areas.iter().sum();

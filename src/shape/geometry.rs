@@ -8,7 +8,9 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
-use crate::accel::{Accel, PlaneInstance, PrimitiveIds, Primitives, SphereInstance};
+use crate::accel::{
+    Accel, MeshInstance, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives, SphereInstance,
+};
 
 /// No emitter on this primitive.
 pub const NO_EMITTER: u32 = u32::MAX;
@@ -33,6 +35,10 @@ pub struct SceneGeometry {
     pub triangle_uvs: Vec<[Vec2; 3]>,
     pub spheres: Vec<SphereShape>,
     pub planes: Vec<Plane>,
+    /// Shared meshes (object-space triangles) and their placed copies; empty until the scene
+    /// builder spawns instances.
+    pub meshes: Vec<Vec<[Vec3; 3]>>,
+    pub instances: Vec<MeshInstance>,
     /// Material index of each primitive, by id.
     pub material: Vec<u32>,
     /// Emitter (index into `emissive_shapes`) of each primitive by id, or [`NO_EMITTER`].
@@ -148,6 +154,8 @@ pub fn build_scene_geometry(
                 normal: p.normal,
             })
             .collect(),
+        meshes: Vec::new(),
+        instances: Vec::new(),
     };
     let ids = PrimitiveIds::new(&primitives);
     let emissive_shapes = (emitters.into_iter())
@@ -168,12 +176,30 @@ pub fn build_scene_geometry(
         triangle_uvs,
         spheres: sphere_shapes,
         planes: plane_shapes,
+        meshes: primitives.meshes,
+        instances: primitives.instances,
         material,
         emitter,
         emissive_shapes,
         bounds_centre,
         bounds_radius,
     });
+}
+
+impl SceneGeometry {
+    /// The world-space vertices of a triangle or an instance's triangle; `None` for any other
+    /// primitive.
+    pub fn world_triangle(&self, prim: PrimitiveRef) -> Option<[Vec3; 3]> {
+        match prim {
+            PrimitiveRef::Triangle(i) => self.triangles.get(i).copied(),
+            PrimitiveRef::InstanceTriangle { instance, triangle } => {
+                let instance = self.instances.get(instance)?;
+                let t = self.meshes.get(instance.mesh as usize)?.get(triangle)?;
+                Some(t.map(|p| instance.object_to_world.transform_point3(p)))
+            }
+            PrimitiveRef::Sphere(_) | PrimitiveRef::Plane(_) => None,
+        }
+    }
 }
 
 /// An emissive shape's primitives, before ids are assigned.

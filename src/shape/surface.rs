@@ -27,6 +27,13 @@ impl SceneGeometry {
         let kind = (self.ids.decode(hit.prim)).expect("the accel reports only its own ids");
         let (geometric_normal, shading_normal, uv) = match kind {
             PrimitiveRef::Triangle(i) => self.triangle_surface(i, hit.u, hit.v),
+            // Instanced meshes keep neither normals nor uvs (yet): flat, with barycentric uvs.
+            PrimitiveRef::InstanceTriangle { .. } => {
+                let [p0, p1, p2] =
+                    (self.world_triangle(kind)).expect("instance ids name triangles");
+                let ng = (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z);
+                (ng, ng, Vec2::new(hit.u, hit.v))
+            }
             PrimitiveRef::Sphere(i) => self.sphere_surface(i, position),
             PrimitiveRef::Plane(i) => {
                 let plane = &self.planes[i];
