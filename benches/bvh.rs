@@ -1,6 +1,9 @@
-//! BVH build time and closest-hit throughput on a procedurally tessellated torus.
+//! BVH build time and closest-hit throughput on a procedurally tessellated torus of 1M
+//! triangles, and the accel's bytes per triangle.
 //!
-//! `cargo bench --bench bvh -- --quick`
+//! `cargo bench --bench bvh -- --quick`. The mesh and the rays are also written to
+//! `target/bvh-peer/` (raw little-endian f32: 9 per triangle, 6 per ray: origin, direction),
+//! which `scripts/peers/embree_compare.py` traces with Embree.
 
 use std::hint::black_box;
 
@@ -46,20 +49,40 @@ fn rays() -> (Vec<Vec3>, Vec<Vec3>) {
         .unzip()
 }
 
+/// Writes `values` as raw little-endian f32 to `target/bvh-peer/name`.
+fn write_f32(name: &str, values: impl Iterator<Item = f32>) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bvh-peer");
+    std::fs::create_dir_all(&dir).expect("create target/bvh-peer");
+    let bytes: Vec<u8> = values.flat_map(f32::to_le_bytes).collect();
+    std::fs::write(dir.join(name), bytes).expect("write the peer files");
+}
+
 fn bench(c: &mut Criterion) {
     let primitives = Primitives {
-        triangles: torus(500, 200),
+        triangles: torus(1000, 500),
         ..Default::default()
     };
+    let (origins, dirs) = rays();
+    write_f32(
+        "mesh.f32",
+        primitives
+            .triangles
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_array()),
+    );
+    write_f32(
+        "rays.f32",
+        (origins.iter().zip(&dirs)).flat_map(|(o, d)| [o.to_array(), d.to_array()].concat()),
+    );
     let mut group = c.benchmark_group("bvh");
     group.sample_size(10);
     group.throughput(Throughput::Elements(primitives.triangles.len() as u64));
-    group.bench_function("build_torus_200k", |b| {
+    group.bench_function("build_torus_1m", |b| {
         b.iter(|| Accel::build(black_box(&primitives)))
     });
 
     let accel = Accel::build(&primitives);
-    let (origins, dirs) = rays();
     let t_maxs = vec![f32::INFINITY; RAYS];
     group.throughput(Throughput::Elements(RAYS as u64));
     group.bench_function("closest_hit_1_thread", |b| {
@@ -83,12 +106,13 @@ fn bench(c: &mut Criterion) {
     let s = accel.stats();
     let hit_count = hits.iter().flatten().count();
     println!(
-        "torus: {} triangles, {} nodes, {} leaves, max depth {}, max leaf {}, {hit_count}/{RAYS} rays hit",
+        "torus: {} triangles, {} nodes, {} leaves, max depth {}, max leaf {}, {:.1} bytes per triangle, {hit_count}/{RAYS} rays hit",
         primitives.triangles.len(),
         s.nodes,
         s.leaves,
         s.max_depth,
-        s.max_leaf_size
+        s.max_leaf_size,
+        s.bytes as f64 / primitives.triangles.len() as f64,
     );
 }
 

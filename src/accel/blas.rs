@@ -8,6 +8,7 @@
 use glam::Vec3;
 
 use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
+use super::memory::on_huge_pages;
 use super::sphere::Sphere;
 use super::triangle::{Triangle4, triangle_bounds};
 use super::{BuildStats, Hit, SphereInstance};
@@ -68,7 +69,7 @@ impl Blas {
         });
         Blas {
             bvh,
-            packets,
+            packets: on_huge_pages(packets),
             spheres: sphere_list,
             shape,
         }

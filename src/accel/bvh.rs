@@ -11,6 +11,7 @@
 use glam::{Vec3A, Vec4};
 
 use super::aabb::Aabb;
+use super::memory::on_huge_pages;
 
 /// Number of SAH bins per axis; Wald 2007 finds 16 to lose almost nothing against a full sweep.
 const BINS: usize = 16;
@@ -179,6 +180,7 @@ impl Bvh {
             let word = collapse(&root, 0, prims, &mut nodes, &mut shape, &mut leaf);
             (word, *root.bounds())
         });
+        let nodes = on_huge_pages(nodes);
         (Bvh { nodes, root }, shape)
     }
 

@@ -16,6 +16,7 @@ mod aabb;
 mod blas;
 mod bvh;
 mod instances;
+mod memory;
 mod plane;
 mod primitive;
 mod sphere;
