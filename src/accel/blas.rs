@@ -96,42 +96,48 @@ impl Blas {
         t_max: &mut f32,
         found: &mut Option<Hit>,
     ) -> bool {
-        self.bvh.traverse(ray, t_min, t_max, |payload, t_max| {
-            let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
-            let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
-            if payload & SPHERE_LEAF == 0 {
-                for packet in &self.packets[run] {
-                    let hit = packet.intersect::<ANY>(&ray.origin4, &ray.dir4, t_min, *t_max);
-                    if let Some(hit) = hit {
-                        *t_max = hit.t;
-                        *found = Some(Hit {
-                            t: hit.t,
-                            prim: packet.ids[hit.lane],
-                            u: hit.u,
-                            v: hit.v,
-                        });
-                        if ANY {
-                            return true;
+        self.bvh.traverse(
+            ray,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |payload, t_max| {
+                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
+                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+                if payload & SPHERE_LEAF == 0 {
+                    for packet in &self.packets[run] {
+                        let hit = packet.intersect::<ANY>(&ray.origin4, &ray.dir4, t_min, *t_max);
+                        if let Some(hit) = hit {
+                            *t_max = hit.t;
+                            *found = Some(Hit {
+                                t: hit.t,
+                                prim: packet.ids[hit.lane],
+                                u: hit.u,
+                                v: hit.v,
+                            });
+                            if ANY {
+                                return true;
+                            }
+                        }
+                    }
+                } else {
+                    for (sphere, id) in &self.spheres[run] {
+                        if let Some(t) = sphere.intersect(ray.origin, ray.dir, t_min, *t_max) {
+                            *t_max = t;
+                            *found = Some(Hit {
+                                t,
+                                prim: *id,
+                                u: 0.0,
+                                v: 0.0,
+                            });
+                            if ANY {
+                                return true;
+                            }
                         }
                     }
                 }
-            } else {
-                for (sphere, id) in &self.spheres[run] {
-                    if let Some(t) = sphere.intersect(ray.origin, ray.dir, t_min, *t_max) {
-                        *t_max = t;
-                        *found = Some(Hit {
-                            t,
-                            prim: *id,
-                            u: 0.0,
-                            v: 0.0,
-                        });
-                        if ANY {
-                            return true;
-                        }
-                    }
-                }
-            }
-            false
-        })
+                false
+            },
+        )
     }
 }

@@ -94,30 +94,36 @@ impl Instances {
         if self.placed.is_empty() {
             return false;
         }
-        self.bvh.traverse(ray, t_min, t_max, |payload, t_max| {
-            let start = (payload >> COUNT_BITS) as usize;
-            let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
-            for instance in &self.placed[run] {
-                let m = &instance.world_to_object;
-                let local = Ray::new(
-                    m.transform_point3a(ray.origin),
-                    m.transform_vector3a(ray.dir),
-                );
-                let Some(local) = local else { continue };
-                let mut hit = None;
-                let stop =
-                    self.meshes[instance.mesh as usize].find::<ANY>(&local, t_min, t_max, &mut hit);
-                if let Some(hit) = hit {
-                    *found = Some(Hit {
-                        prim: instance.first_id + hit.prim,
-                        ..hit
-                    });
+        self.bvh.traverse(
+            ray,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |payload, t_max| {
+                let start = (payload >> COUNT_BITS) as usize;
+                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+                for instance in &self.placed[run] {
+                    let m = &instance.world_to_object;
+                    let local = Ray::new(
+                        m.transform_point3a(ray.origin),
+                        m.transform_vector3a(ray.dir),
+                    );
+                    let Some(local) = local else { continue };
+                    let mut hit = None;
+                    let stop = self.meshes[instance.mesh as usize]
+                        .find::<ANY>(&local, t_min, t_max, &mut hit);
+                    if let Some(hit) = hit {
+                        *found = Some(Hit {
+                            prim: instance.first_id + hit.prim,
+                            ..hit
+                        });
+                    }
+                    if stop {
+                        return true;
+                    }
                 }
-                if stop {
-                    return true;
-                }
-            }
-            false
-        })
+                false
+            },
+        )
     }
 }
