@@ -1,6 +1,9 @@
-//! BVH build time and closest-hit throughput on a procedurally tessellated torus.
+//! BVH build time and closest-hit throughput on a procedurally tessellated torus of 1M
+//! triangles, and the accel's bytes per triangle.
 //!
-//! `cargo bench --bench bvh -- --quick`
+//! `cargo bench --bench bvh -- --quick`. The mesh and the rays are also written to
+//! `target/bvh-peer/` (raw little-endian f32: 9 per triangle, 6 per ray: origin, direction),
+//! which `scripts/peers/embree_compare.py` traces with Embree.
 
 use std::hint::black_box;
 
@@ -46,20 +49,63 @@ fn rays() -> (Vec<Vec3>, Vec<Vec3>) {
         .unzip()
 }
 
+/// CPU time of the calling thread in seconds (Linux's `/proc/thread-self/schedstat`): on a
+/// shared machine it counts only the time this thread ran, unlike wall time.
+fn thread_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    Some(stat.split_whitespace().next()?.parse::<f64>().ok()? * 1e-9)
+}
+
+/// CPU time of the whole process (all threads) in seconds, from `/proc/self/stat`'s utime and
+/// stime (in clock ticks of 1/100 s on Linux).
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// The median of `values`.
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Writes `values` as raw little-endian f32 to `target/bvh-peer/name`.
+fn write_f32(name: &str, values: impl Iterator<Item = f32>) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bvh-peer");
+    std::fs::create_dir_all(&dir).expect("create target/bvh-peer");
+    let bytes: Vec<u8> = values.flat_map(f32::to_le_bytes).collect();
+    std::fs::write(dir.join(name), bytes).expect("write the peer files");
+}
+
 fn bench(c: &mut Criterion) {
     let primitives = Primitives {
-        triangles: torus(500, 200),
+        triangles: torus(1000, 500),
         ..Default::default()
     };
+    let (origins, dirs) = rays();
+    write_f32(
+        "mesh.f32",
+        primitives
+            .triangles
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_array()),
+    );
+    write_f32(
+        "rays.f32",
+        (origins.iter().zip(&dirs)).flat_map(|(o, d)| [o.to_array(), d.to_array()].concat()),
+    );
     let mut group = c.benchmark_group("bvh");
     group.sample_size(10);
     group.throughput(Throughput::Elements(primitives.triangles.len() as u64));
-    group.bench_function("build_torus_200k", |b| {
+    group.bench_function("build_torus_1m", |b| {
         b.iter(|| Accel::build(black_box(&primitives)))
     });
 
     let accel = Accel::build(&primitives);
-    let (origins, dirs) = rays();
     let t_maxs = vec![f32::INFINITY; RAYS];
     group.throughput(Throughput::Elements(RAYS as u64));
     group.bench_function("closest_hit_1_thread", |b| {
@@ -82,13 +128,47 @@ fn bench(c: &mut Criterion) {
     group.finish();
     let s = accel.stats();
     let hit_count = hits.iter().flatten().count();
+    // CPU-time measurements, less sensitive to other processes than criterion's wall time:
+    // the build's wall and process CPU time, and one-thread closest hits per CPU second.
+    let builds: Vec<(f64, f64)> = (0..5)
+        .map(|_| {
+            let (wall, cpu) = (std::time::Instant::now(), process_cpu_seconds());
+            black_box(Accel::build(&primitives));
+            let cpu = cpu
+                .zip(process_cpu_seconds())
+                .map_or(f64::NAN, |(a, b)| b - a);
+            (wall.elapsed().as_secs_f64(), cpu)
+        })
+        .collect();
     println!(
-        "torus: {} triangles, {} nodes, {} leaves, max depth {}, max leaf {}, {hit_count}/{RAYS} rays hit",
+        "build of 1M triangles: median wall {:.3} s, median process CPU {:.3} s",
+        median(builds.iter().map(|b| b.0).collect()),
+        median(builds.iter().map(|b| b.1).collect())
+    );
+    let passes: Vec<f64> = (0..5)
+        .filter_map(|_| {
+            let start = thread_cpu_seconds()?;
+            for (&o, &d) in origins.iter().zip(&dirs) {
+                black_box(accel.closest_hit(o, d, 0.0, f32::INFINITY));
+            }
+            Some(thread_cpu_seconds()? - start)
+        })
+        .collect();
+    if !passes.is_empty() {
+        println!(
+            "closest hit, one thread: {:.3} M rays per CPU second (median of {} passes)",
+            RAYS as f64 / median(passes) / 1e6,
+            5
+        );
+    }
+    println!(
+        "torus: {} triangles, {} nodes, {} leaves, max depth {}, max leaf {}, {:.1} bytes per triangle, {hit_count}/{RAYS} rays hit",
         primitives.triangles.len(),
         s.nodes,
         s.leaves,
         s.max_depth,
-        s.max_leaf_size
+        s.max_leaf_size,
+        s.bytes as f64 / primitives.triangles.len() as f64,
     );
 }
 

@@ -1,6 +1,6 @@
 //! Axis-aligned bounding boxes: the bounding volume of the BVH.
 
-use glam::Vec3A;
+use glam::{Affine3A, Vec3A};
 
 /// The box `[min, max]`; the empty box has `min > max` so that it is the identity of `union`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +32,20 @@ impl Aabb {
             min: self.min.min(other.min),
             max: self.max.max(other.max),
         }
+    }
+
+    /// The box around this one's 8 corners mapped by `m`.
+    pub fn transformed(&self, m: &Affine3A) -> Aabb {
+        Aabb::from_points((0..8).map(|i| {
+            let corner = |bit: u32, axis: usize| {
+                if i & bit == 0 {
+                    self.min[axis]
+                } else {
+                    self.max[axis]
+                }
+            };
+            m.transform_point3a(Vec3A::new(corner(1, 0), corner(2, 1), corner(4, 2)))
+        }))
     }
 
     pub fn centroid(&self) -> Vec3A {

@@ -1,89 +1,130 @@
-//! A bounding volume hierarchy: binned-SAH build, depth-first flattening, stack-based traversal.
+//! A four-wide bounding volume hierarchy: a parallel binned-SAH binary build, collapsed into
+//! nodes of four children whose boxes one ray tests at once (SIMD lanes), and an ordered
+//! stack traversal.
 //!
-//! The BVH knows only boxes and primitive ids: it reorders the ids so that every leaf holds a
-//! contiguous range of "slots", and traversal hands each leaf's slot range to a caller-supplied
-//! closure that tests the primitives. The closure is a generic parameter, so every caller gets its
-//! own monomorphised traversal loop with the leaf test inlined.
+//! The BVH knows only boxes: the build reorders the caller's [`BuildPrim`]s so that every leaf
+//! is a contiguous run of them, and hands each run to a caller closure that stores the leaf's
+//! primitives however it likes and returns a 31-bit payload. Traversal hands the payload of
+//! each leaf the ray reaches back to a second closure that tests the primitives. Both closures
+//! are generic parameters, so every caller gets its own loop with the leaf test inlined.
 
-use std::ops::Range;
+use std::mem::MaybeUninit;
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3A, Vec4};
 
 use super::aabb::Aabb;
+use super::memory::on_huge_pages;
 
 /// Number of SAH bins per axis; Wald 2007 finds 16 to lose almost nothing against a full sweep.
 const BINS: usize = 16;
-/// SAH costs relative to one primitive intersection (pbrt-v4 §7.3.2 uses 1/2 per node visit).
+/// SAH cost of a node visit relative to one leaf block test (pbrt-v4 §7.3.2 uses 1/2).
 const TRAVERSAL_COST: f32 = 0.5;
+/// Leaves are tested [`LEAF_BLOCK`] primitives at a time (a SIMD packet): the SAH charges a
+/// leaf by its blocks, so that it prefers full ones (Embree's "block size").
+pub(crate) const LEAF_BLOCK: usize = 4;
 /// A node with more primitives than this is always split, so no leaf holds more.
-pub(crate) const MAX_LEAF_SIZE: usize = 8;
+pub(crate) const MAX_LEAF_SIZE: usize = 2 * LEAF_BLOCK;
 /// Below this depth splits are chosen by the SAH; from it on by the centroid median, which
-/// halves the count at every level. With fewer than 2³² primitives the tree is therefore at
-/// most `SAH_DEPTH_LIMIT + 32 = 63` levels deep, which bounds the traversal stack.
+/// halves the count at every level. With fewer than 2³² primitives the binary tree is therefore
+/// at most `SAH_DEPTH_LIMIT + 32 = 63` levels deep; the wide tree is no deeper, and each of
+/// its levels leaves at most 3 children on the traversal stack.
 const SAH_DEPTH_LIMIT: usize = 31;
-const STACK_SIZE: usize = 64;
-const _: () = assert!(SAH_DEPTH_LIMIT + 32 < STACK_SIZE);
+const STACK_SIZE: usize = 3 * 64 + 1;
 /// Subtrees with more primitives than this are built in parallel (rayon::join).
 const PARALLEL_THRESHOLD: usize = 4096;
 /// pbrt-v4's `1 + 2γ₃` (§6.8.2): widens the slab test's far distance to cover the rounding of
 /// `(bound - o) * inv_dir`, so a box is never missed by a ray that grazes it.
 const SLAB_ROBUSTNESS: f32 =
     1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+/// A child word with this bit set is a leaf; the other 31 bits are the caller's payload.
+const LEAF: u32 = 1 << 31;
 
-/// A primitive as the builder sees it.
+/// A primitive as the builder sees it. `group` keeps primitives of different kinds (triangles
+/// and spheres, say) out of the same leaf.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BuildPrim {
     pub bounds: Aabb,
     pub centroid: Vec3A,
     pub id: u32,
+    pub group: u32,
 }
 
 impl BuildPrim {
-    pub fn new(bounds: Aabb, id: u32) -> BuildPrim {
+    pub fn new(bounds: Aabb, id: u32, group: u32) -> BuildPrim {
         BuildPrim {
             bounds,
             centroid: bounds.centroid(),
             id,
+            group,
         }
     }
 }
 
-/// A flattened node, 32 bytes so that two share a cache line. Children are laid out depth-first:
-/// an interior node's first child follows it, `offset` is the index of its second child and
-/// `axis` its split axis. A leaf (`count > 0`) holds the slots `offset..offset + count`.
+/// Four children's boxes as structure of arrays, one SIMD lane per child: `bounds[2 axis]` holds
+/// the lower bounds on `axis`, `bounds[2 axis + 1]` the upper ones. An unused lane has the empty
+/// box (lower +∞, upper -∞), which no ray enters. 112 bytes, padded to two cache lines.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 struct Node {
-    min: Vec3,
-    offset: u32,
-    max: Vec3,
-    count: u16,
-    axis: u8,
+    bounds: [Vec4; 6],
+    child: [u32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<Node>() == 32);
-
 impl Node {
-    /// The slab test (Kay & Kajiya 1986): the ray is inside the box where it is inside all three
-    /// slabs, i.e. for `t` between the largest entry and the smallest exit distance.
+    const EMPTY: Node = Node {
+        bounds: [
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
+        child: [0; 4],
+    };
+
+    fn set(&mut self, lane: usize, bounds: &Aabb, child: u32) {
+        for axis in 0..3 {
+            self.bounds[2 * axis][lane] = bounds.min[axis];
+            self.bounds[2 * axis + 1][lane] = bounds.max[axis];
+        }
+        self.child[lane] = child;
+    }
+
+    /// The slab test (Kay & Kajiya 1986) on all four boxes at once: a ray is inside a box for
+    /// `t` between the largest entry and the smallest exit distance over the three slabs. By
+    /// the direction's sign the entry plane of each slab is known in advance (Williams et al.
+    /// 2005), so entry and exit are one subtraction and one product each, with no min/max.
+    /// Returns each box's entry distance and the mask of boxes entered in `(t_min, t_max)`.
     #[inline(always)]
-    fn hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let t0 = (Vec3A::from(self.min) - ray.origin) * ray.inv_dir;
-        let t1 = (Vec3A::from(self.max) - ray.origin) * ray.inv_dir;
-        let near = t0.min(t1).max_element();
-        let far = t0.max(t1).min_element() * SLAB_ROBUSTNESS;
-        // `max(near, t_min) <= min(far, t_max)` as plain comparisons: no NaN can occur (see
-        // `Ray::new`), and `t_min < t_max` holds already.
-        (near <= far) & (near <= t_max) & (far >= t_min)
+    fn hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Vec4, u32) {
+        let slab = |axis: usize, side: usize| {
+            (self.bounds[2 * axis + side] - ray.origin4[axis]) * ray.inv_dir4[axis]
+        };
+        let near = (slab(0, ray.near_side[0]).max(slab(1, ray.near_side[1])))
+            .max(slab(2, ray.near_side[2]));
+        let far = (slab(0, 1 - ray.near_side[0]).min(slab(1, 1 - ray.near_side[1])))
+            .min(slab(2, 1 - ray.near_side[2]))
+            * SLAB_ROBUSTNESS;
+        // `max(near, t_min) <= min(far, t_max)` as plain comparisons. No NaN occurs: origins and
+        // bounds are finite or the empty box's ±∞, and `Ray::new` keeps `inv_dir` finite and
+        // nonzero.
+        let mask = near.cmple(far) & near.cmple(Vec4::splat(t_max)) & far.cmpge(Vec4::splat(t_min));
+        (near, mask.bitmask())
     }
 }
 
-/// A ray prepared for traversal: the reciprocal direction and its signs, computed once.
+/// A ray prepared for traversal: the reciprocal direction, the four-lane splats the node test
+/// uses, and which side of each slab it enters first, computed once.
 pub(crate) struct Ray {
     pub origin: Vec3A,
     pub dir: Vec3A,
-    inv_dir: Vec3A,
-    dir_is_neg: [bool; 3],
+    /// Each coordinate of the origin and the direction splatted over four lanes.
+    pub origin4: [Vec4; 3],
+    pub dir4: [Vec4; 3],
+    inv_dir4: [Vec4; 3],
+    /// 0 where the direction is positive (enters through the lower bound), 1 where negative.
+    near_side: [usize; 3],
 }
 
 impl Ray {
@@ -93,23 +134,26 @@ impl Ray {
     /// nonzero, and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of
     /// such an axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for
     /// any practical purpose.
-    pub fn new(origin: Vec3, dir: Vec3) -> Option<Ray> {
-        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3::ZERO {
+    pub fn new(origin: Vec3A, dir: Vec3A) -> Option<Ray> {
+        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
             return None;
         }
         const TINY: f32 = f32::MIN_POSITIVE;
         let safe = |x: f32| if x.abs() < TINY { TINY.copysign(x) } else { x };
         let inv_dir = Vec3A::new(safe(dir.x), safe(dir.y), safe(dir.z)).recip();
         Some(Ray {
-            origin: origin.into(),
-            dir: dir.into(),
-            inv_dir,
-            dir_is_neg: inv_dir.cmplt(Vec3A::ZERO).into(),
+            origin,
+            dir,
+            origin4: [0, 1, 2].map(|axis| Vec4::splat(origin[axis])),
+            dir4: [0, 1, 2].map(|axis| Vec4::splat(dir[axis])),
+            inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
+            near_side: [0, 1, 2].map(|axis| (inv_dir[axis] < 0.0) as usize),
         })
     }
 }
 
 /// What the build reports about the tree's shape.
+#[derive(Default)]
 pub(crate) struct Shape {
     pub leaves: usize,
     pub max_depth: usize,
@@ -118,75 +162,110 @@ pub(crate) struct Shape {
 
 pub(crate) struct Bvh {
     nodes: Vec<Node>,
+    /// The root's child word and box; `None` for an empty tree.
+    root: Option<(u32, Aabb)>,
 }
 
 impl Bvh {
-    /// Builds the tree over `prims`, reordering them: afterwards leaf slots index `prims`.
-    pub fn build(prims: &mut [BuildPrim]) -> (Bvh, Shape) {
-        let mut shape = Shape {
-            leaves: 0,
-            max_depth: 0,
-            max_leaf_size: 0,
-        };
+    /// Builds the tree over `prims`, reordering them, and calls `leaf` on each leaf's run of
+    /// primitives (all of one group, at most [`MAX_LEAF_SIZE`]) in depth-first order; `leaf`
+    /// returns the payload traversal hands back, below 2³¹.
+    pub fn build(
+        prims: &mut [BuildPrim],
+        mut leaf: impl FnMut(&[BuildPrim]) -> u32,
+    ) -> (Bvh, Shape) {
+        let mut shape = Shape::default();
         let mut nodes = Vec::new();
-        if !prims.is_empty() {
+        let root = (!prims.is_empty()).then(|| {
             let root = build_recursive(prims, 0, 0);
-            nodes.reserve(2 * prims.len());
-            flatten(&root, 0, &mut nodes, &mut shape);
-        }
-        (Bvh { nodes }, shape)
+            nodes.reserve(prims.len() / 4);
+            let word = collapse(&root, 0, prims, &mut nodes, &mut shape, &mut leaf);
+            (word, *root.bounds())
+        });
+        let nodes = on_huge_pages(nodes);
+        (Bvh { nodes, root }, shape)
     }
 
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
-    /// Visits, front to back by the direction's sign on each split axis, every leaf whose box
-    /// the ray enters with `t` in `(t_min, t_max)`, and calls `leaf(slots, &mut t_max)` on it.
-    /// The closure may shrink `t_max` (closest hit) and returns `true` to stop (any hit).
+    /// The box around everything in the tree; `None` for an empty tree.
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.root.map(|(_, bounds)| bounds)
+    }
+
+    pub fn bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<Node>()
+    }
+
+    /// Visits every leaf whose box the ray enters with `t` in `(t_min, t_max)`, nearest box
+    /// first, and calls `leaf(payload, &mut t_max)` on it. The closure may shrink `t_max`
+    /// (closest hit): subtrees entered beyond it are then skipped. It returns `true` to stop
+    /// (any hit), and so does `traverse`.
     #[inline(always)]
-    pub fn traverse<F>(&self, ray: &Ray, t_min: f32, mut t_max: f32, mut leaf: F)
+    pub fn traverse<F>(&self, ray: &Ray, t_min: f32, t_max: &mut f32, mut leaf: F) -> bool
     where
-        F: FnMut(Range<usize>, &mut f32) -> bool,
+        F: FnMut(u32, &mut f32) -> bool,
     {
-        if self.nodes.is_empty() {
-            return;
-        }
-        let mut stack = [0u32; STACK_SIZE];
+        let Some((mut current, _)) = self.root else {
+            return false;
+        };
+        // Children still to visit, with the distance at which the ray enters them. Left
+        // uninitialised: zeroing 1.5 KiB per ray costs as much as a small scene's traversal.
+        let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK_SIZE];
         let mut depth = 0;
-        let mut index = 0;
         loop {
-            let node = &self.nodes[index];
-            if node.hit(ray, t_min, t_max) {
-                let start = node.offset as usize;
-                if node.count > 0 {
-                    if leaf(start..start + node.count as usize, &mut t_max) {
-                        return;
+            if current & LEAF != 0 {
+                if leaf(current & !LEAF, t_max) {
+                    return true;
+                }
+            } else {
+                let node = &self.nodes[current as usize];
+                let (near, mut mask) = node.hit(ray, t_min, *t_max);
+                if mask != 0 {
+                    // The entered children sorted by entry distance, farthest first; all but the
+                    // nearest go on the stack so that the nearest is visited next.
+                    let mut entered = [(0u32, 0f32); 4];
+                    let mut count = 0;
+                    while mask != 0 {
+                        let lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let item = (node.child[lane], near[lane]);
+                        let mut i = count;
+                        while i > 0 && entered[i - 1].1 < item.1 {
+                            entered[i] = entered[i - 1];
+                            i -= 1;
+                        }
+                        entered[i] = item;
+                        count += 1;
                     }
-                } else {
-                    // Visit the child on the near side of the split plane first: the first child
-                    // holds the smaller coordinates, so it is near unless the ray goes negative.
-                    let (near, far) = if ray.dir_is_neg[node.axis as usize] {
-                        (start, index + 1)
-                    } else {
-                        (index + 1, start)
-                    };
-                    stack[depth] = far as u32;
-                    depth += 1;
-                    index = near;
+                    for &item in &entered[..count - 1] {
+                        stack[depth].write(item);
+                        depth += 1;
+                    }
+                    current = entered[count - 1].0;
                     continue;
                 }
             }
-            if depth == 0 {
-                return;
+            // Pop the next child the ray enters before the closest hit so far.
+            loop {
+                if depth == 0 {
+                    return false;
+                }
+                depth -= 1;
+                // SAFETY: entries below `depth` were all written by the pushes above.
+                let (child, near) = unsafe { stack[depth].assume_init() };
+                if near <= *t_max {
+                    current = child;
+                    break;
+                }
             }
-            depth -= 1;
-            index = stack[depth] as usize;
         }
     }
 }
 
-/// The unflattened tree, as the recursive build produces it.
+/// The binary tree, as the recursive build produces it.
 enum BuildNode {
     Leaf {
         bounds: Aabb,
@@ -195,9 +274,16 @@ enum BuildNode {
     },
     Interior {
         bounds: Aabb,
-        axis: usize,
         children: Box<[BuildNode; 2]>,
     },
+}
+
+impl BuildNode {
+    fn bounds(&self) -> &Aabb {
+        match self {
+            BuildNode::Leaf { bounds, .. } | BuildNode::Interior { bounds, .. } => bounds,
+        }
+    }
 }
 
 /// Builds the subtree over `prims`, which are slots `start..start + prims.len()`.
@@ -214,15 +300,22 @@ fn build_recursive(prims: &mut [BuildPrim], start: usize, depth: usize) -> Build
     if n == 1 {
         return leaf;
     }
-    let (axis, mid) = if depth >= SAH_DEPTH_LIMIT {
+    let mid = if depth >= SAH_DEPTH_LIMIT {
         median_split(prims, &centroids)
     } else {
         match sah_split(prims, &bounds, &centroids) {
-            // SAH says a leaf is cheaper, and the leaf is small enough.
-            None if n <= MAX_LEAF_SIZE => return leaf,
+            // SAH says a leaf is cheaper, the leaf is small enough and holds one group only;
+            // with several groups, split them apart.
+            None if n <= MAX_LEAF_SIZE => {
+                let group = prims[0].group;
+                if prims.iter().all(|p| p.group == group) {
+                    return leaf;
+                }
+                partition(prims, |p| p.group == group)
+            }
             // All centroids coincide and there are too many for a leaf: split arbitrarily.
             None => median_split(prims, &centroids),
-            Some(split) => split,
+            Some(mid) => mid,
         }
     };
     let (left, right) = prims.split_at_mut(mid);
@@ -239,21 +332,25 @@ fn build_recursive(prims: &mut [BuildPrim], start: usize, depth: usize) -> Build
     };
     BuildNode::Interior {
         bounds,
-        axis,
         children: Box::new([left, right]),
     }
+}
+
+/// The SAH cost weight of `n` primitives in a leaf: the number of blocks that test them.
+fn blocks(n: usize) -> f32 {
+    n.div_ceil(LEAF_BLOCK) as f32
 }
 
 /// The binned SAH split of Wald 2007 ("On fast construction of SAH-based bounding volume
 /// hierarchies"), tried on all three axes: primitives are binned by centroid into `BINS` equal
 /// slabs of the centroid bounds, and the `BINS - 1` planes between bins are scored by
 ///
-///   cost = C_trav + (N_left · A_left + N_right · A_right) / A_node,
+///   cost = C_trav + (B(N_left) · A_left + B(N_right) · A_right) / A_node,
 ///
-/// against the cost `N` of a leaf (intersection cost 1). Returns `(axis, mid)` after
-/// partitioning `prims` so that `..mid` goes left, or `None` when no split beats a leaf (or no
-/// axis has centroid extent).
-fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<(usize, usize)> {
+/// against the cost `B(N)` of a leaf, where `B(n)` counts the leaf blocks of `n` primitives
+/// (one block test costs 1). Returns `mid` after partitioning `prims` so that `..mid` goes
+/// left, or `None` when no split beats a leaf (or no axis has centroid extent).
+fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option<usize> {
     let extent = centroids.extent();
     // Wald's k1 = BINS (1 - ε) / extent keeps the largest centroid in the last bin.
     let scale = Vec3A::splat(BINS as f32 * (1.0 - 1e-5)) / extent;
@@ -283,13 +380,13 @@ fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option
         for k in (1..BINS).rev() {
             b = b.union(boxes[axis][k]);
             c += counts[axis][k];
-            right_cost[k - 1] = c as f32 * b.surface_area();
+            right_cost[k - 1] = blocks(c) * b.surface_area();
         }
         let (mut b, mut c) = (Aabb::EMPTY, 0);
         for k in 0..BINS - 1 {
             b = b.union(boxes[axis][k]);
             c += counts[axis][k];
-            let cost = c as f32 * b.surface_area() + right_cost[k];
+            let cost = blocks(c) * b.surface_area() + right_cost[k];
             if best.is_none_or(|(best_cost, ..)| cost < best_cost) {
                 best = Some((cost, axis, k));
             }
@@ -299,20 +396,20 @@ fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option
     let (cost, axis, k) = best?;
     let area = bounds.surface_area();
     let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
-    if prims.len() <= MAX_LEAF_SIZE && prims.len() as f32 <= split_cost {
+    if prims.len() <= MAX_LEAF_SIZE && blocks(prims.len()) <= split_cost {
         return None;
     }
     let mid = partition(prims, |p| bin_of(p, axis) <= k);
     // The first bin and the last are both occupied, so neither side is empty.
-    (mid > 0 && mid < prims.len()).then_some((axis, mid))
+    (mid > 0 && mid < prims.len()).then_some(mid)
 }
 
-/// Splits at the median centroid on the axis of largest centroid extent: `(axis, mid)`.
-fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> (usize, usize) {
+/// Splits at the median centroid on the axis of largest centroid extent.
+fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> usize {
     let axis = centroids.extent().max_position();
     let mid = prims.len() / 2;
     prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-    (axis, mid)
+    mid
 }
 
 /// Moves the elements satisfying `left` to the front; returns how many there are.
@@ -327,41 +424,53 @@ fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> usiz
     mid
 }
 
-/// Appends `node`'s subtree depth-first, returning its index.
-fn flatten(node: &BuildNode, depth: usize, nodes: &mut Vec<Node>, shape: &mut Shape) -> usize {
-    let index = nodes.len();
-    let flat = |bounds: &Aabb, offset: usize, count: usize, axis: usize| Node {
-        min: bounds.min.into(),
-        offset: offset as u32,
-        max: bounds.max.into(),
-        count: count as u16,
-        axis: axis as u8,
-    };
+/// Appends `node`'s subtree as four-wide nodes, depth-first, and returns its child word.
+///
+/// A binary node becomes one wide node whose children are found by opening, up to four, the
+/// interior child of largest surface area (the one a random ray most likely enters): the
+/// collapse of Wald et al. 2008, "Getting rid of packets".
+fn collapse(
+    node: &BuildNode,
+    depth: usize,
+    prims: &[BuildPrim],
+    nodes: &mut Vec<Node>,
+    shape: &mut Shape,
+    leaf: &mut impl FnMut(&[BuildPrim]) -> u32,
+) -> u32 {
     match node {
-        BuildNode::Leaf {
-            bounds,
-            start,
-            count,
-        } => {
+        BuildNode::Leaf { start, count, .. } => {
             shape.leaves += 1;
             shape.max_depth = shape.max_depth.max(depth);
             shape.max_leaf_size = shape.max_leaf_size.max(*count);
-            nodes.push(flat(bounds, *start, *count, 0));
+            let payload = leaf(&prims[*start..start + count]);
+            debug_assert!(payload < LEAF);
+            LEAF | payload
         }
-        BuildNode::Interior {
-            bounds,
-            axis,
-            children,
-        } => {
-            // The first child goes right after this node; the second child's index is known
-            // only once the first subtree is laid out.
-            nodes.push(flat(bounds, 0, 0, *axis));
-            flatten(&children[0], depth + 1, nodes, shape);
-            let second = flatten(&children[1], depth + 1, nodes, shape);
-            nodes[index].offset = second as u32;
+        BuildNode::Interior { children, .. } => {
+            let mut kids: Vec<&BuildNode> = children.iter().collect();
+            while kids.len() < 4 {
+                let largest = (kids.iter().enumerate())
+                    .filter(|(_, kid)| matches!(kid, BuildNode::Interior { .. }))
+                    .max_by(|a, b| {
+                        let area = |kid: &BuildNode| kid.bounds().surface_area();
+                        area(a.1).total_cmp(&area(b.1))
+                    })
+                    .map(|(i, _)| i);
+                let Some(i) = largest else { break };
+                let BuildNode::Interior { children, .. } = kids.swap_remove(i) else {
+                    unreachable!("filtered to interior nodes")
+                };
+                kids.extend(children.iter());
+            }
+            let index = nodes.len();
+            nodes.push(Node::EMPTY);
+            for (lane, kid) in kids.into_iter().enumerate() {
+                let child = collapse(kid, depth + 1, prims, nodes, shape, leaf);
+                nodes[index].set(lane, kid.bounds(), child);
+            }
+            index as u32
         }
     }
-    index
 }
 
 #[cfg(test)]
@@ -369,7 +478,8 @@ mod tests {
     use super::*;
 
     fn prims(n: usize) -> Vec<BuildPrim> {
-        // A deterministic scatter of small boxes with clustered, repeated and spread centroids.
+        // A deterministic scatter of small boxes with clustered, repeated and spread centroids,
+        // in two groups.
         (0..n)
             .map(|i| {
                 let c = Vec3A::new(
@@ -377,51 +487,73 @@ mod tests {
                     (i * i % 13) as f32,
                     1.1f32.powi((i % 50) as i32),
                 );
-                BuildPrim::new(Aabb::from_points([c, c + Vec3A::splat(0.5)]), i as u32)
+                let bounds = Aabb::from_points([c, c + Vec3A::splat(0.5)]);
+                BuildPrim::new(bounds, i as u32, (i % 3 == 0) as u32)
             })
             .collect()
     }
 
-    fn contains(outer: &Node, inner: &Aabb) -> bool {
-        Vec3::from(inner.min).cmpge(outer.min).all() && Vec3::from(inner.max).cmple(outer.max).all()
+    fn lane_box(node: &Node, lane: usize) -> Aabb {
+        let corner = |side: usize| {
+            Vec3A::new(
+                node.bounds[side][lane],
+                node.bounds[2 + side][lane],
+                node.bounds[4 + side][lane],
+            )
+        };
+        Aabb {
+            min: corner(0),
+            max: corner(1),
+        }
     }
 
-    /// Every node bounds its subtree, leaves partition the slots, and the ids are a permutation.
-    #[test]
-    fn flattened_tree_is_consistent() {
-        let mut p = prims(5000);
-        let (bvh, shape) = Bvh::build(&mut p);
-        let mut ids: Vec<u32> = p.iter().map(|p| p.id).collect();
-        ids.sort_unstable();
-        assert!(ids.iter().enumerate().all(|(i, &id)| id == i as u32));
+    fn contains(outer: &Aabb, inner: &Aabb) -> bool {
+        inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all()
+    }
 
+    /// Every lane's box bounds its subtree, every leaf holds one group, the leaves partition
+    /// the primitives and hand back their payloads, and nodes are mostly full.
+    #[test]
+    fn wide_tree_is_consistent() {
+        let mut p = prims(5000);
+        let mut leaves = Vec::new();
+        let (bvh, shape) = Bvh::build(&mut p, |run| {
+            leaves.push(run.to_vec());
+            (leaves.len() - 1) as u32
+        });
         let mut covered = vec![0u32; p.len()];
-        let mut stack = vec![0usize];
-        while let Some(i) = stack.pop() {
-            let node = &bvh.nodes[i];
-            let start = node.offset as usize;
-            if node.count > 0 {
-                for slot in start..start + node.count as usize {
-                    assert!(contains(node, &p[slot].bounds));
-                    covered[slot] += 1;
+        // (child word, the box its parent's lane gives it)
+        let mut stack = vec![(bvh.root.unwrap().0, bvh.bounds().unwrap())];
+        let mut used_lanes = 0;
+        while let Some((child, bounds)) = stack.pop() {
+            if child & LEAF != 0 {
+                let run = &leaves[(child & !LEAF) as usize];
+                assert!(run.len() <= MAX_LEAF_SIZE);
+                assert!(run.iter().all(|q| q.group == run[0].group));
+                for q in run {
+                    assert!(contains(&bounds, &q.bounds));
+                    covered[q.id as usize] += 1;
                 }
             } else {
-                for child in [i + 1, start] {
-                    let c = &bvh.nodes[child];
-                    assert!(contains(
-                        node,
-                        &Aabb {
-                            min: c.min.into(),
-                            max: c.max.into()
-                        }
-                    ));
-                    stack.push(child);
+                let node = &bvh.nodes[child as usize];
+                for lane in 0..4 {
+                    let b = lane_box(node, lane);
+                    if b.min.x <= b.max.x {
+                        assert!(contains(&bounds, &b));
+                        used_lanes += 1;
+                        stack.push((node.child[lane], b));
+                    }
                 }
             }
         }
         assert!(covered.iter().all(|&c| c == 1));
-        assert_eq!(bvh.node_count(), 2 * shape.leaves - 1);
-        assert!(shape.max_leaf_size <= MAX_LEAF_SIZE);
+        assert_eq!(shape.leaves, leaves.len());
+        // n nodes hold n - 1 nodes and all leaves; a binary tree would use 2 of 4 lanes.
+        assert_eq!(used_lanes, bvh.node_count() - 1 + shape.leaves);
+        assert!(
+            used_lanes * 10 >= bvh.node_count() * 4 * 6,
+            "lanes {used_lanes}"
+        );
     }
 
     /// Past the SAH depth limit every split halves the count, so a subtree over `n` primitives
@@ -430,12 +562,15 @@ mod tests {
     fn median_splits_past_the_depth_limit_halve() {
         let mut p = prims(1000);
         let root = build_recursive(&mut p, 0, SAH_DEPTH_LIMIT);
-        let mut shape = Shape {
-            leaves: 0,
-            max_depth: 0,
-            max_leaf_size: 0,
-        };
-        flatten(&root, SAH_DEPTH_LIMIT, &mut Vec::new(), &mut shape);
+        let mut shape = Shape::default();
+        collapse(
+            &root,
+            SAH_DEPTH_LIMIT,
+            &p,
+            &mut Vec::new(),
+            &mut shape,
+            &mut |_| 0,
+        );
         assert!(
             shape.max_depth <= SAH_DEPTH_LIMIT + 10,
             "depth {}",

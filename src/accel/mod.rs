@@ -1,35 +1,37 @@
-//! Ray queries against the scene's geometry: a BVH over triangles and transformed spheres, plus
-//! unbounded planes tested outside the tree.
+//! Ray queries against the scene's geometry: a two-level, four-wide BVH over triangles,
+//! transformed spheres and instances of shared meshes, plus unbounded planes tested outside
+//! the trees.
 //!
-//! Triangles and spheres go into one binned-SAH BVH ([`bvh`]); its leaves hold contiguous ranges
-//! of "slots", a reordering of the primitives. Per slot we keep the original primitive id and the
-//! triangle's Möller-Trumbore data (a zero, never-hit triangle in sphere slots); spheres are kept
-//! in their original order, found from the slot's id. Degenerate primitives (zero-area
-//! triangles, singular or zero-radius spheres, zero-normal planes, anything non-finite) are left
-//! out: they can never be hit, and ids of the others stay those of [`Primitives`].
-//!
-//! "Model no more than a scene needs": the leaf test is a const-generic function
-//! `leaf::<SPHERES, ANY>`, and `closest_hit` / `any_hit` pick `SPHERES` once per ray from whether
-//! the tree holds any sphere. With `SPHERES = false` the compiled loop walks the slot's triangles
-//! and contains no id lookup and no sphere branch. Planes cost one empty-slice check per ray in a
-//! scene without planes.
+//! The bottom level ([`Blas`]) is a [`bvh::Bvh`] over triangles and spheres in one space: its
+//! triangle leaves are [`triangle::Triangle4`] packets tested four at a time, its sphere leaves
+//! runs of spheres (never in the same leaf as triangles). The world-space triangles and spheres
+//! form one such tree; every shared mesh another, in its object space. The top level is a
+//! `Bvh` over the instances' world bounds: a ray reaching an instance is carried into the
+//! mesh's object space by the inverse of its affine map, where `t` is unchanged (an affine map
+//! sends `o + t d` to `M⁻¹o + t M⁻¹d`). Degenerate primitives (zero-area triangles, singular or
+//! zero-radius spheres, zero-normal planes, singular instances, anything non-finite) are left
+//! out: they can never be hit, and the ids of the others stay those of [`PrimitiveIds`].
 
 mod aabb;
+mod blas;
 mod bvh;
+mod instances;
+mod memory;
 mod plane;
+mod primitive;
 mod sphere;
 mod triangle;
 
-use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
-use bvh::{BuildPrim, Bvh, Ray};
+use blas::Blas;
+use bvh::{Ray, Shape};
+use instances::Instances;
 use plane::Plane;
-use sphere::Sphere;
-use triangle::Triangle;
+pub use primitive::{PrimitiveIds, PrimitiveRef};
 
 /// A sphere of `radius` around the origin of its object space, placed by `object_to_world` (any
 /// affine map: a non-uniform scale makes an ellipsoid).
@@ -46,13 +48,29 @@ pub struct PlaneInstance {
     pub normal: Vec3,
 }
 
-/// The scene's primitives, in world space. Primitive ids number the triangles first (0..n_tri),
-/// then the spheres, then the planes.
+/// A placed copy of `meshes[mesh]`: its triangles mapped by `object_to_world` (any affine map).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshInstance {
+    pub mesh: u32,
+    pub object_to_world: Affine3A,
+}
+
+/// The scene's primitives: triangles, spheres and planes in world space, and instances of
+/// shared meshes (given in their object space). [`PrimitiveIds`] numbers them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Primitives {
     pub triangles: Vec<[Vec3; 3]>,
     pub spheres: Vec<SphereInstance>,
     pub planes: Vec<PlaneInstance>,
+    pub meshes: Vec<Vec<[Vec3; 3]>>,
+    pub instances: Vec<MeshInstance>,
+}
+
+impl Primitives {
+    /// The number of triangles of `meshes[mesh]`; 0 for a missing mesh.
+    pub fn mesh_len(&self, mesh: u32) -> usize {
+        self.meshes.get(mesh as usize).map_or(0, Vec::len)
+    }
 }
 
 /// A ray's hit: its parameter, the original primitive id, and the surface coordinates.
@@ -65,32 +83,37 @@ pub struct Hit {
     pub v: f32,
 }
 
-/// The tree's shape (the root is at depth 0; an empty tree has no nodes) and how long the
-/// build took.
+/// The trees' shape (summed over the world tree, the mesh trees and the instance tree; depth
+/// of the deepest; the root is at depth 0 and an empty tree has no nodes), their memory, and
+/// how long the build took.
 #[derive(Clone, Debug)]
 pub struct BuildStats {
     pub nodes: usize,
     pub leaves: usize,
     pub max_depth: usize,
     pub max_leaf_size: usize,
+    /// Bytes of nodes, triangle packets, spheres and instances held by the accel.
+    pub bytes: usize,
     pub build_time: Duration,
+}
+
+impl BuildStats {
+    fn add(&mut self, shape: &Shape, nodes: usize, bytes: usize) {
+        self.nodes += nodes;
+        self.leaves += shape.leaves;
+        self.max_depth = self.max_depth.max(shape.max_depth);
+        self.max_leaf_size = self.max_leaf_size.max(shape.max_leaf_size);
+        self.bytes += bytes;
+    }
 }
 
 /// The scene's ray-query structure: built once from [`Primitives`], then shared read-only by
 /// all threads.
 pub struct Accel {
-    bvh: Bvh,
-    /// Per slot: the original primitive id.
-    ids: Vec<u32>,
-    /// Per slot: the triangle (a never-hit zero triangle in sphere slots).
-    triangles: Vec<Triangle>,
-    /// Per sphere, in original order (index `id - n_triangles`).
-    spheres: Vec<Sphere>,
+    world: Blas,
+    instances: Instances,
     planes: Vec<Plane>,
-    n_triangles: u32,
-    /// Whether any slot holds a sphere: selects the traversal instance.
-    has_spheres: bool,
-    primitive_count: usize,
+    prim_ids: PrimitiveIds,
     stats: BuildStats,
 }
 
@@ -98,46 +121,42 @@ pub struct Accel {
 const BATCH_CHUNK: usize = 256;
 
 impl Accel {
-    /// Builds the BVH over the triangles and spheres that can be hit (in parallel for large
-    /// subtrees) and prepares the planes.
+    /// Builds the trees (each in parallel for large subtrees, the mesh trees in parallel with
+    /// each other) and prepares the planes.
     pub fn build(primitives: &Primitives) -> Accel {
         let start = Instant::now();
-        let n_triangles = primitives.triangles.len();
-        let triangle_prims = (primitives.triangles.iter().enumerate())
-            .filter_map(|(i, t)| Some(BuildPrim::new(Triangle::bounds(t)?, i as u32)));
-        let sphere_prims = (primitives.spheres.iter().enumerate()).filter_map(|(i, s)| {
-            Some(BuildPrim::new(Sphere::bounds(s)?, (n_triangles + i) as u32))
-        });
-        let mut prims: Vec<BuildPrim> = triangle_prims.chain(sphere_prims).collect();
-        let (bvh, shape) = Bvh::build(&mut prims);
-
-        let ids: Vec<u32> = prims.iter().map(|p| p.id).collect();
-        let triangles = (ids.iter())
-            .map(|&id| match primitives.triangles.get(id as usize) {
-                Some(t) => Triangle::new(t),
-                None => Triangle::default(),
-            })
-            .collect();
-        let first_plane = n_triangles + primitives.spheres.len();
-        let planes = (primitives.planes.iter().enumerate())
-            .filter_map(|(i, p)| Plane::new(p, (first_plane + i) as u32))
-            .collect();
-        Accel {
-            has_spheres: ids.iter().any(|&id| id as usize >= n_triangles),
-            ids,
-            triangles,
-            spheres: primitives.spheres.iter().map(Sphere::new).collect(),
-            planes,
-            n_triangles: n_triangles as u32,
-            primitive_count: first_plane + primitives.planes.len(),
-            stats: BuildStats {
-                nodes: bvh.node_count(),
-                leaves: shape.leaves,
-                max_depth: shape.max_depth,
-                max_leaf_size: shape.max_leaf_size,
-                build_time: start.elapsed(),
+        let prim_ids = PrimitiveIds::new(primitives);
+        let (world, instances) = rayon::join(
+            || {
+                Blas::build(
+                    &primitives.triangles,
+                    &primitives.spheres,
+                    |i| prim_ids.triangle(i),
+                    |i| prim_ids.sphere(i),
+                )
             },
-            bvh,
+            || Instances::build(primitives, &prim_ids),
+        );
+        let planes = (primitives.planes.iter().enumerate())
+            .filter_map(|(i, p)| Plane::new(p, prim_ids.plane(i)))
+            .collect();
+        let mut stats = BuildStats {
+            nodes: 0,
+            leaves: 0,
+            max_depth: 0,
+            max_leaf_size: 0,
+            bytes: 0,
+            build_time: Duration::ZERO,
+        };
+        world.add_stats(&mut stats);
+        instances.add_stats(&mut stats);
+        stats.build_time = start.elapsed();
+        Accel {
+            world,
+            instances,
+            planes,
+            prim_ids,
+            stats,
         }
     }
 
@@ -145,18 +164,23 @@ impl Accel {
         &self.stats
     }
 
-    /// The number of primitive ids: triangles + spheres + planes, degenerate ones included.
+    /// The number of primitive ids, degenerate primitives included.
     pub fn primitive_count(&self) -> usize {
-        self.primitive_count
+        self.prim_ids.count()
+    }
+
+    /// How the primitive ids of the hits are numbered.
+    pub fn ids(&self) -> &PrimitiveIds {
+        &self.prim_ids
     }
 
     /// Closest hit with t in (t_min, t_max), ray p = origin + t * dir (dir need not be unit
     /// length; t is in its units).
     ///
     /// Planes are tested first: a plane hit shrinks `t_max` before traversal, so a ground plane
-    /// culls everything beneath it. The tree's hit replaces it only if strictly nearer.
+    /// culls everything beneath it. A tree's hit replaces it only if strictly nearer.
     pub fn closest_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
-        let ray = Ray::new(origin, dir)?;
+        let ray = Ray::new(origin.into(), dir.into())?;
         if t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
@@ -173,17 +197,16 @@ impl Accel {
                 });
             }
         }
-        let in_tree = if self.has_spheres {
-            self.closest_in_tree::<true>(&ray, t_min, t_max)
-        } else {
-            self.closest_in_tree::<false>(&ray, t_min, t_max)
-        };
-        in_tree.or(closest)
+        self.world
+            .find::<false>(&ray, t_min, &mut t_max, &mut closest);
+        self.instances
+            .find::<false>(&ray, t_min, &mut t_max, &mut closest);
+        closest
     }
 
     /// Whether anything is hit with t in (t_min, t_max): stops at the first hit found.
     pub fn any_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
-        let Some(ray) = Ray::new(origin, dir) else {
+        let Some(ray) = Ray::new(origin.into(), dir.into()) else {
             return false;
         };
         if t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
@@ -192,13 +215,12 @@ impl Accel {
         if (self.planes.iter()).any(|p| p.intersect(ray.origin, ray.dir, t_min, t_max).is_some()) {
             return true;
         }
-        if self.has_spheres {
-            self.any_in_tree::<true>(&ray, t_min, t_max)
-        } else {
-            self.any_in_tree::<false>(&ray, t_min, t_max)
-        }
+        let (mut t_max, mut found) = (t_max, None);
+        self.world.find::<true>(&ray, t_min, &mut t_max, &mut found)
+            || self
+                .instances
+                .find::<true>(&ray, t_min, &mut t_max, &mut found)
     }
-
     /// For each i: hits[i] = closest_hit(origins[i], dirs[i], t_min, t_maxs[i]); parallel with
     /// rayon over chunks. Only the first `min` of the slices' lengths entries are computed.
     pub fn closest_hits(
@@ -243,63 +265,5 @@ impl Accel {
                     *occ = self.any_hit(o, d, t_min, t_max);
                 }
             });
-    }
-
-    /// The closest hit in the tree, for a tree that holds spheres or not (`SPHERES`).
-    fn closest_in_tree<const SPHERES: bool>(
-        &self,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-    ) -> Option<Hit> {
-        let mut found = None;
-        self.bvh.traverse(ray, t_min, t_max, |slots, t_max| {
-            self.leaf::<SPHERES, false>(ray, t_min, t_max, slots, &mut found)
-        });
-        found.map(|(slot, hit)| Hit {
-            prim: self.ids[slot],
-            ..hit
-        })
-    }
-
-    /// Whether the tree holds a hit, for a tree that holds spheres or not (`SPHERES`).
-    fn any_in_tree<const SPHERES: bool>(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let mut found = None;
-        self.bvh.traverse(ray, t_min, t_max, |slots, t_max| {
-            self.leaf::<SPHERES, true>(ray, t_min, t_max, slots, &mut found)
-        });
-        found.is_some()
-    }
-
-    /// Tests the primitives in `slots`, recording a hit (and its slot) in `found` and shrinking `t_max` to it;
-    /// returns whether to stop (`ANY` and a hit). With `SPHERES = false` the loop is over
-    /// triangles only: no id is read and no sphere test is compiled in.
-    #[inline(always)]
-    fn leaf<const SPHERES: bool, const ANY: bool>(
-        &self,
-        ray: &Ray,
-        t_min: f32,
-        t_max: &mut f32,
-        slots: Range<usize>,
-        found: &mut Option<(usize, Hit)>,
-    ) -> bool {
-        let (o, d) = (ray.origin, ray.dir);
-        for (slot, triangle) in slots.clone().zip(&self.triangles[slots]) {
-            let hit = if SPHERES && self.ids[slot] >= self.n_triangles {
-                let sphere = &self.spheres[(self.ids[slot] - self.n_triangles) as usize];
-                sphere.intersect(o, d, t_min, *t_max).map(|t| (t, 0.0, 0.0))
-            } else {
-                triangle.intersect(o, d, t_min, *t_max)
-            };
-            if let Some((t, u, v)) = hit {
-                *t_max = t;
-                // The id is looked up once, after traversal, from the slot.
-                *found = Some((slot, Hit { t, prim: 0, u, v }));
-                if ANY {
-                    return true;
-                }
-            }
-        }
-        false
     }
 }

@@ -43,11 +43,11 @@ impl Sphere {
         if !valid || !m.inverse().is_finite() {
             return None;
         }
-        let corners = (0..8).map(|i| {
-            let corner = |bit: u32| if i & bit == 0 { -r } else { r };
-            m.transform_point3a(Vec3A::new(corner(1), corner(2), corner(4)))
-        });
-        Some(Aabb::from_points(corners)).filter(Aabb::is_finite)
+        let local = Aabb {
+            min: Vec3A::splat(-r),
+            max: Vec3A::splat(r),
+        };
+        Some(local.transformed(m)).filter(Aabb::is_finite)
     }
 
     /// The smallest root `t` in `(t_min, t_max)` of `|o + t d|² = r²` in object space.

@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::LightSample;
+use crate::accel::PrimitiveRef;
 use crate::film::luminance;
 use crate::sampling::AliasTable;
 use crate::sampling::warp::{uniform_cone, uniform_cone_pdf, uniform_sphere, uniform_triangle};
@@ -33,33 +34,35 @@ enum EmitterShape {
 impl AreaLight {
     /// `None` for shapes that cannot emit (no area).
     pub fn new(shape: &EmissiveShape, geometry: &SceneGeometry) -> Option<Self> {
-        let triangle_count = geometry.triangles.len() as u32;
-        let first = *shape.primitives.first()?;
-        let shape_kind = if first < triangle_count {
-            let triangles: Vec<[Vec3; 3]> = shape
-                .primitives
-                .iter()
-                .map(|&p| geometry.triangles[p as usize])
-                .collect();
-            let areas: Vec<f32> = triangles.iter().map(triangle_area).collect();
-            let area: f32 = areas.iter().sum();
-            if area.is_nan() || area <= 0.0 {
-                return None;
+        let decode = |id: &u32| geometry.ids.decode(*id);
+        let shape_kind = match decode(shape.primitives.first()?)? {
+            PrimitiveRef::Triangle(_) | PrimitiveRef::InstanceTriangle { .. } => {
+                let triangles: Vec<[Vec3; 3]> = (shape.primitives.iter())
+                    .filter_map(|id| geometry.world_triangle(decode(id)?))
+                    .collect();
+                let areas: Vec<f32> = triangles.iter().map(triangle_area).collect();
+                let area: f32 = areas.iter().sum();
+                if area.is_nan() || area <= 0.0 {
+                    return None;
+                }
+                EmitterShape::Triangles {
+                    by_area: AliasTable::new(&areas),
+                    triangles,
+                    area,
+                }
             }
-            EmitterShape::Triangles {
-                by_area: AliasTable::new(&areas),
-                triangles,
-                area,
+            PrimitiveRef::Sphere(i) => {
+                let sphere = geometry.spheres.get(i)?;
+                // A sphere light is sampled as a round sphere: the mean of the axes' scales.
+                let m = sphere.object_to_world.matrix3;
+                let scale = (m.x_axis.length() + m.y_axis.length() + m.z_axis.length()) / 3.0;
+                EmitterShape::Sphere {
+                    centre: sphere.object_to_world.translation.into(),
+                    radius: sphere.radius * scale,
+                }
             }
-        } else {
-            let sphere = geometry.spheres.get((first - triangle_count) as usize)?;
-            // A sphere light is sampled as a round sphere: the mean of the axes' scales.
-            let m = sphere.object_to_world.matrix3;
-            let scale = (m.x_axis.length() + m.y_axis.length() + m.z_axis.length()) / 3.0;
-            EmitterShape::Sphere {
-                centre: sphere.object_to_world.translation.into(),
-                radius: sphere.radius * scale,
-            }
+            // An infinite plane cannot be sampled: the builder never makes it an emitter.
+            PrimitiveRef::Plane(_) => return None,
         };
         Some(Self {
             radiance: shape.radiance,

@@ -8,7 +8,9 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
-use crate::accel::{Accel, PlaneInstance, Primitives, SphereInstance};
+use crate::accel::{
+    Accel, MeshInstance, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives, SphereInstance,
+};
 
 /// No emitter on this primitive.
 pub const NO_EMITTER: u32 = u32::MAX;
@@ -23,18 +25,23 @@ pub struct EmissiveShape {
 #[derive(Resource)]
 pub struct SceneGeometry {
     pub accel: Arc<Accel>,
-    /// World-space vertices of triangle `i` (primitive id `i`).
+    /// How primitive ids number the lists below (the accel's numbering).
+    pub ids: PrimitiveIds,
+    /// World-space vertices of each triangle.
     pub triangles: Vec<[Vec3; 3]>,
     /// Per-triangle vertex normals; empty when no mesh has normals.
     pub triangle_normals: Vec<[Vec3; 3]>,
     /// Per-triangle vertex uvs; empty unless the scene samples textures.
     pub triangle_uvs: Vec<[Vec2; 3]>,
-    /// Sphere `i` is primitive `triangles.len() + i`.
     pub spheres: Vec<SphereShape>,
     pub planes: Vec<Plane>,
-    /// Material index of each primitive.
+    /// Shared meshes (object-space triangles) and their placed copies; empty until the scene
+    /// builder spawns instances.
+    pub meshes: Vec<Vec<[Vec3; 3]>>,
+    pub instances: Vec<MeshInstance>,
+    /// Material index of each primitive, by id.
     pub material: Vec<u32>,
-    /// Emitter (index into `emissive_shapes`) of each primitive, or [`NO_EMITTER`].
+    /// Emitter (index into `emissive_shapes`) of each primitive by id, or [`NO_EMITTER`].
     pub emitter: Vec<u32>,
     pub emissive_shapes: Vec<EmissiveShape>,
     /// Centre and radius of a sphere bounding the scene (for distant and infinite lights).
@@ -71,20 +78,23 @@ pub fn build_scene_geometry(
     let mut triangle_uvs = Vec::new();
     let mut material = Vec::new();
     let mut emitter = Vec::new();
-    let mut emissive_shapes: Vec<EmissiveShape> = Vec::new();
+    // Each emitter's primitives (as ranges of triangle or sphere indices, turned into ids once
+    // all are counted) and radiance.
+    let mut emitters: Vec<(EmitterPrimitives, Vec3)> = Vec::new();
 
-    let mut next_emitter = |first: usize, count: usize, light: Option<&AreaEmitter>| {
+    let mut next_emitter = |primitives: EmitterPrimitives, light: Option<&AreaEmitter>| {
         light.map_or(NO_EMITTER, |light| {
-            emissive_shapes.push(EmissiveShape {
-                primitives: (first as u32..(first + count) as u32).collect(),
-                radiance: light.radiance,
-            });
-            (emissive_shapes.len() - 1) as u32
+            emitters.push((primitives, light.radiance));
+            (emitters.len() - 1) as u32
         })
     };
 
     for (mesh, surface, light) in &meshes {
-        let id = next_emitter(triangles.len(), mesh.indices.len(), light);
+        let first = triangles.len();
+        let id = next_emitter(
+            EmitterPrimitives::Triangles(first..first + mesh.indices.len()),
+            light,
+        );
         for tri in &mesh.indices {
             let [a, b, c] = tri.map(|i| i as usize);
             triangles.push([mesh.positions[a], mesh.positions[b], mesh.positions[c]]);
@@ -110,8 +120,7 @@ pub fn build_scene_geometry(
     let mut sphere_shapes = Vec::new();
     for (sphere, surface, light) in &spheres {
         emitter.push(next_emitter(
-            triangles.len() + sphere_shapes.len(),
-            1,
+            EmitterPrimitives::Sphere(sphere_shapes.len()),
             light,
         ));
         material.push(surface.0);
@@ -145,21 +154,58 @@ pub fn build_scene_geometry(
                 normal: p.normal,
             })
             .collect(),
+        meshes: Vec::new(),
+        instances: Vec::new(),
     };
+    let ids = PrimitiveIds::new(&primitives);
+    let emissive_shapes = (emitters.into_iter())
+        .map(|(primitives, radiance)| EmissiveShape {
+            primitives: match primitives {
+                EmitterPrimitives::Triangles(range) => range.map(|i| ids.triangle(i)).collect(),
+                EmitterPrimitives::Sphere(i) => vec![ids.sphere(i)],
+            },
+            radiance,
+        })
+        .collect();
     let (bounds_centre, bounds_radius) = bounding_sphere(&triangles, &sphere_shapes);
     commands.insert_resource(SceneGeometry {
         accel: Arc::new(Accel::build(&primitives)),
+        ids,
         triangles,
         triangle_normals,
         triangle_uvs,
         spheres: sphere_shapes,
         planes: plane_shapes,
+        meshes: primitives.meshes,
+        instances: primitives.instances,
         material,
         emitter,
         emissive_shapes,
         bounds_centre,
         bounds_radius,
     });
+}
+
+impl SceneGeometry {
+    /// The world-space vertices of a triangle or an instance's triangle; `None` for any other
+    /// primitive.
+    pub fn world_triangle(&self, prim: PrimitiveRef) -> Option<[Vec3; 3]> {
+        match prim {
+            PrimitiveRef::Triangle(i) => self.triangles.get(i).copied(),
+            PrimitiveRef::InstanceTriangle { instance, triangle } => {
+                let instance = self.instances.get(instance)?;
+                let t = self.meshes.get(instance.mesh as usize)?.get(triangle)?;
+                Some(t.map(|p| instance.object_to_world.transform_point3(p)))
+            }
+            PrimitiveRef::Sphere(_) | PrimitiveRef::Plane(_) => None,
+        }
+    }
+}
+
+/// An emissive shape's primitives, before ids are assigned.
+enum EmitterPrimitives {
+    Triangles(std::ops::Range<usize>),
+    Sphere(usize),
 }
 
 /// A sphere around every bounded primitive (planes are unbounded and left out).

@@ -5,7 +5,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::geometry::SceneGeometry;
-use crate::accel::Hit;
+use crate::accel::{Hit, PrimitiveRef};
 
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint {
@@ -23,19 +23,25 @@ pub struct SurfacePoint {
 impl SceneGeometry {
     pub fn surface_point(&self, hit: &Hit, origin: Vec3, direction: Vec3) -> SurfacePoint {
         let prim = hit.prim as usize;
-        let triangle_count = self.triangles.len();
-        let sphere_end = triangle_count + self.spheres.len();
         let position = origin + direction * hit.t;
-        let (geometric_normal, shading_normal, uv) = if prim < triangle_count {
-            self.triangle_surface(prim, hit.u, hit.v)
-        } else if prim < sphere_end {
-            self.sphere_surface(prim - triangle_count, position)
-        } else {
-            let plane = &self.planes[prim - sphere_end];
-            let n = plane.normal;
-            let (t, b) = n.any_orthonormal_pair();
-            let local = position - plane.point;
-            (n, n, Vec2::new(local.dot(t), local.dot(b)))
+        let kind = (self.ids.decode(hit.prim)).expect("the accel reports only its own ids");
+        let (geometric_normal, shading_normal, uv) = match kind {
+            PrimitiveRef::Triangle(i) => self.triangle_surface(i, hit.u, hit.v),
+            // Instanced meshes keep neither normals nor uvs (yet): flat, with barycentric uvs.
+            PrimitiveRef::InstanceTriangle { .. } => {
+                let [p0, p1, p2] =
+                    (self.world_triangle(kind)).expect("instance ids name triangles");
+                let ng = (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z);
+                (ng, ng, Vec2::new(hit.u, hit.v))
+            }
+            PrimitiveRef::Sphere(i) => self.sphere_surface(i, position),
+            PrimitiveRef::Plane(i) => {
+                let plane = &self.planes[i];
+                let n = plane.normal;
+                let (t, b) = n.any_orthonormal_pair();
+                let local = position - plane.point;
+                (n, n, Vec2::new(local.dot(t), local.dot(b)))
+            }
         };
         SurfacePoint {
             position,

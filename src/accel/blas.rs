@@ -1,0 +1,143 @@
+//! A bottom-level tree: triangles and spheres in one space (the world, or a shared mesh's
+//! object space) under a four-wide [`Bvh`].
+//!
+//! A triangle leaf is a run of [`Triangle4`] packets, a sphere leaf a run of spheres; the leaf
+//! payload says which, where the run starts and how long it is. Each packet lane and each
+//! sphere carries its primitive id, so a hit needs no lookup.
+
+use glam::Vec3;
+
+use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
+use super::memory::on_huge_pages;
+use super::sphere::Sphere;
+use super::triangle::{Triangle4, triangle_bounds};
+use super::{BuildStats, Hit, SphereInstance};
+
+/// Payload bit of a sphere leaf.
+const SPHERE_LEAF: u32 = 1 << 30;
+/// The low bits of a payload count the leaf's packets or spheres (at most `MAX_LEAF_SIZE`);
+/// the bits above them up to bit 29 hold the run's start, so a tree holds at most 2²⁶ packets
+/// (2²⁸ triangles) and as many spheres.
+const COUNT_BITS: u32 = 4;
+const MAX_START: usize = 1 << (30 - COUNT_BITS);
+
+/// Build groups: a leaf holds one kind only.
+const TRIANGLES: u32 = 0;
+const SPHERES: u32 = 1;
+
+pub(crate) struct Blas {
+    bvh: Bvh,
+    packets: Vec<Triangle4>,
+    spheres: Vec<(Sphere, u32)>,
+    shape: Shape,
+}
+
+impl Blas {
+    /// The tree over the triangles and spheres that can be hit; triangle `i` answers to id
+    /// `triangle_id(i)`, sphere `i` to `sphere_id(i)`.
+    pub fn build(
+        triangles: &[[Vec3; 3]],
+        spheres: &[SphereInstance],
+        triangle_id: impl Fn(usize) -> u32,
+        sphere_id: impl Fn(usize) -> u32,
+    ) -> Blas {
+        let triangle_prims = (triangles.iter().enumerate())
+            .filter_map(|(i, t)| Some(BuildPrim::new(triangle_bounds(t)?, i as u32, TRIANGLES)));
+        let sphere_prims = (spheres.iter().enumerate())
+            .filter_map(|(i, s)| Some(BuildPrim::new(Sphere::bounds(s)?, i as u32, SPHERES)));
+        let mut prims: Vec<BuildPrim> = triangle_prims.chain(sphere_prims).collect();
+        let mut packets = Vec::with_capacity(prims.len() / 3);
+        let mut sphere_list = Vec::new();
+        let (bvh, shape) = Bvh::build(&mut prims, |run| {
+            let (start, count, kind) = if run[0].group == TRIANGLES {
+                let start = packets.len();
+                packets.extend(run.chunks(LEAF_BLOCK).map(|block| {
+                    let lanes = block.iter().map(|p| p.id as usize);
+                    Triangle4::new(lanes.map(|i| (&triangles[i], triangle_id(i))))
+                }));
+                (start, packets.len() - start, 0)
+            } else {
+                let start = sphere_list.len();
+                sphere_list.extend(run.iter().map(|p| {
+                    let i = p.id as usize;
+                    (Sphere::new(&spheres[i]), sphere_id(i))
+                }));
+                (start, run.len(), SPHERE_LEAF)
+            };
+            assert!(start < MAX_START, "more than 2^26 leaf runs in one tree");
+            kind | (start as u32) << COUNT_BITS | count as u32
+        });
+        Blas {
+            bvh,
+            packets: on_huge_pages(packets),
+            spheres: sphere_list,
+            shape,
+        }
+    }
+
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    pub fn add_stats(&self, stats: &mut BuildStats) {
+        let bytes = self.bvh.bytes()
+            + std::mem::size_of_val(self.packets.as_slice())
+            + std::mem::size_of_val(self.spheres.as_slice());
+        stats.add(&self.shape, self.bvh.node_count(), bytes);
+    }
+
+    /// Looks for hits with `t` in `(t_min, t_max)`: records each nearer one in `found` and
+    /// shrinks `t_max` to it. With `ANY`, stops at the first and returns `true`.
+    #[inline(always)]
+    pub fn find<const ANY: bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        found: &mut Option<Hit>,
+    ) -> bool {
+        self.bvh.traverse(
+            ray,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |payload, t_max| {
+                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
+                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+                if payload & SPHERE_LEAF == 0 {
+                    for packet in &self.packets[run] {
+                        let hit = packet.intersect::<ANY>(&ray.origin4, &ray.dir4, t_min, *t_max);
+                        if let Some(hit) = hit {
+                            *t_max = hit.t;
+                            *found = Some(Hit {
+                                t: hit.t,
+                                prim: packet.ids[hit.lane],
+                                u: hit.u,
+                                v: hit.v,
+                            });
+                            if ANY {
+                                return true;
+                            }
+                        }
+                    }
+                } else {
+                    for (sphere, id) in &self.spheres[run] {
+                        if let Some(t) = sphere.intersect(ray.origin, ray.dir, t_min, *t_max) {
+                            *t_max = t;
+                            *found = Some(Hit {
+                                t,
+                                prim: *id,
+                                u: 0.0,
+                                v: 0.0,
+                            });
+                            if ANY {
+                                return true;
+                            }
+                        }
+                    }
+                }
+                false
+            },
+        )
+    }
+}
