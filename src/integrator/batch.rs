@@ -100,7 +100,11 @@ impl PathBatch {
         let live = self.partition.split(&self.alive[..n]);
         for &slot in &self.partition.order[live..n] {
             let slot = slot as usize;
-            finish(self.pixel[slot], self.film_position[slot], self.radiance[slot]);
+            finish(
+                self.pixel[slot],
+                self.film_position[slot],
+                self.radiance[slot],
+            );
         }
         if live < n {
             self.gather_live(live);
@@ -265,7 +269,7 @@ mod tests {
         }
         let expected_live: Vec<u32> = (0..n as u32).filter(|&i| batch.alive[i as usize]).collect();
         let mut finished = Vec::new();
-        let live = batch.retire(|pixel, radiance| finished.push((pixel, radiance)));
+        let live = batch.retire(|pixel, _, radiance| finished.push((pixel, radiance)));
         assert_eq!(live, expected_live.len());
         assert_eq!(batch.len, live);
         assert_eq!(batch.pixel[..live], expected_live[..]);
