@@ -2,4 +2,6 @@
 
 pub mod build;
 pub mod desc;
+pub mod io;
 pub mod lxs;
+pub mod mitsuba;

@@ -1,0 +1,19 @@
+//! Mitsuba 3 XML scenes (format versions 0.4 to 3.x), read with quick-xml into a plugin tree
+//! ([`tree::SceneTree`]): objects with a type, a plugin name, an id, typed properties and child
+//! objects, each with the file, line and column it came from. Older scenes are upgraded as Mitsuba
+//! upgrades them (`upgrade`).
+
+pub mod dom;
+pub mod error;
+pub mod parser;
+pub mod spectrum;
+pub mod transform;
+pub mod tree;
+pub mod upgrade;
+
+pub use error::{MitsubaError, MitsubaWarning, SourceLoc};
+pub use parser::{parse_file, parse_str};
+pub use tree::{Object, ObjectId, SceneTree, Value};
+
+#[cfg(test)]
+mod tests;
