@@ -27,7 +27,13 @@ pub fn prepare(args: &SceneArgs) -> Result<Prepared, String> {
             .num_threads(threads as usize)
             .build_global();
     }
-    let desc = lxs::load(&args.scene).map_err(|e| e.to_string())?;
+    let is_xml = args.scene.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"));
+    let desc = if is_xml {
+        crate::scene::mitsuba::load(&args.scene, &[])
+    } else {
+        lxs::load(&args.scene)
+    }
+    .map_err(|e| e.to_string())?;
     for warning in &desc.warnings {
         eprintln!("{warning}");
     }

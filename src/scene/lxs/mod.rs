@@ -2,13 +2,13 @@
 //! as the course's scenes extend it.
 
 mod camera;
-mod images;
+pub mod images;
 mod lights;
 mod materials;
 mod params;
 mod parser;
 mod paths;
-mod ply;
+pub mod ply;
 mod shapes;
 mod tokenizer;
 

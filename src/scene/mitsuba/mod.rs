@@ -3,15 +3,21 @@
 //! objects, each with the file, line and column it came from. Older scenes are upgraded as Mitsuba
 //! upgrades them (`upgrade`).
 
+pub mod conductors;
+pub mod convert;
 pub mod dom;
+pub mod emitters;
+pub mod materials;
 pub mod error;
 pub mod parser;
+pub mod shapes;
 pub mod spectrum;
 pub mod transform;
 pub mod tree;
 pub mod upgrade;
 
 pub use error::{MitsubaError, MitsubaWarning, SourceLoc};
+pub use convert::load;
 pub use parser::{parse_file, parse_str};
 pub use tree::{Object, ObjectId, SceneTree, Value};
 
