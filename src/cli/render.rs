@@ -27,7 +27,10 @@ pub fn prepare(args: &SceneArgs) -> Result<Prepared, String> {
             .num_threads(threads as usize)
             .build_global();
     }
-    let is_xml = args.scene.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"));
+    let is_xml = args
+        .scene
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"));
     let desc = if is_xml {
         crate::scene::mitsuba::load(&args.scene, &[])
     } else {

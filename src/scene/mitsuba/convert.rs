@@ -43,10 +43,12 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
         materials: HashMap::new(),
         textures: HashMap::new(),
     };
-    cx.desc.warnings.extend(tree.warnings.iter().map(|w| SceneWarning {
-        location: location(&w.loc),
-        message: w.message.clone(),
-    }));
+    cx.desc
+        .warnings
+        .extend(tree.warnings.iter().map(|w| SceneWarning {
+            location: location(&w.loc),
+            message: w.message.clone(),
+        }));
     // Mitsuba's defaults: a film of 768x576 (hdrfilm), linear output, a Gaussian filter.
     cx.desc.film.x_resolution = 768;
     cx.desc.film.y_resolution = 576;
@@ -57,11 +59,22 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
     if let Some((_, sensor)) = sensors.next() {
         cx.sensor(sensor);
     } else {
-        cx.warn(&root.loc, "no <sensor>: Mitsuba's default camera (perspective, 45 degrees at the origin)".into());
-        cx.desc.camera.projection = Projection::Perspective { fov_degrees: 45.0 * 576.0 / 768.0 };
+        cx.warn(
+            &root.loc,
+            "no <sensor>: Mitsuba's default camera (perspective, 45 degrees at the origin)".into(),
+        );
+        cx.desc.camera.projection = Projection::Perspective {
+            fov_degrees: 45.0 * 576.0 / 768.0,
+        };
     }
     for (_, extra) in sensors {
-        cx.warn(&extra.loc, format!("{} ignored: only the first sensor renders", extra.describe()));
+        cx.warn(
+            &extra.loc,
+            format!(
+                "{} ignored: only the first sensor renders",
+                extra.describe()
+            ),
+        );
     }
     for child in &root.children {
         let object = &tree.objects[child.object];
@@ -112,14 +125,25 @@ impl Converter<'_> {
 
     /// Warns about every parameter of `object` nobody read.
     pub fn report_unused(&mut self, object: &Object) {
-        let unused: Vec<_> = object.unused().map(|(n, l)| (n.to_string(), l.clone())).collect();
+        let unused: Vec<_> = object
+            .unused()
+            .map(|(n, l)| (n.to_string(), l.clone()))
+            .collect();
         for (name, loc) in unused {
-            self.warn(&loc, format!("parameter \"{name}\" of {} not supported, ignored", object.describe()));
+            self.warn(
+                &loc,
+                format!(
+                    "parameter \"{name}\" of {} not supported, ignored",
+                    object.describe()
+                ),
+            );
         }
     }
 
     fn wrong_type(&mut self, object: &Object, name: &str, value: &Value, expected: &str) {
-        let loc = object.prop(name).map_or(object.loc.clone(), |p| p.loc.clone());
+        let loc = object
+            .prop(name)
+            .map_or(object.loc.clone(), |p| p.loc.clone());
         self.warn(
             &loc,
             format!(
@@ -257,7 +281,10 @@ impl Converter<'_> {
         self.desc.max_depth = Some(match depth {
             d if d < 0 => UNLIMITED_DEPTH,
             0 => {
-                self.warn(&integrator.loc, "max_depth 0 renders black in Mitsuba; emitted light is shown".into());
+                self.warn(
+                    &integrator.loc,
+                    "max_depth 0 renders black in Mitsuba; emitted light is shown".into(),
+                );
                 0
             }
             d => (d - 1).min(UNLIMITED_DEPTH as i64) as u32,
@@ -272,7 +299,10 @@ impl Converter<'_> {
             );
         }
         if self.bool(integrator, "hide_emitters", false) {
-            self.warn(&integrator.loc, "hide_emitters not supported: emitters stay visible".into());
+            self.warn(
+                &integrator.loc,
+                "hide_emitters not supported: emitters stay visible".into(),
+            );
         }
         self.report_unused(integrator);
     }
@@ -282,17 +312,33 @@ impl Converter<'_> {
         let (mut width, mut height) = (768u32, 576u32);
         if let Some((_, film)) = sensor.children_tagged(tree, "film").next() {
             if film.plugin != "hdrfilm" {
-                self.warn(&film.loc, format!("film \"{}\" read as \"hdrfilm\"", film.plugin));
+                self.warn(
+                    &film.loc,
+                    format!("film \"{}\" read as \"hdrfilm\"", film.plugin),
+                );
             }
             width = self.int(film, "width", 768).clamp(1, 1 << 16) as u32;
             height = self.int(film, "height", 576).clamp(1, 1 << 16) as u32;
-            for ignored in ["pixel_format", "component_format", "file_format", "high_quality_edges"] {
+            for ignored in [
+                "pixel_format",
+                "component_format",
+                "file_format",
+                "high_quality_edges",
+            ] {
                 film.prop(ignored);
             }
-            for crop in ["crop_offset_x", "crop_offset_y", "crop_width", "crop_height"] {
+            for crop in [
+                "crop_offset_x",
+                "crop_offset_y",
+                "crop_width",
+                "crop_height",
+            ] {
                 if let Some(p) = film.prop(crop) {
                     let loc = p.loc.clone();
-                    self.warn(&loc, format!("{crop} not supported: the whole film renders"));
+                    self.warn(
+                        &loc,
+                        format!("{crop} not supported: the whole film renders"),
+                    );
                 }
             }
             if let Some((_, rfilter)) = film.children_tagged(tree, "rfilter").next() {
@@ -305,14 +351,29 @@ impl Converter<'_> {
         if let Some((_, sampler)) = sensor.children_tagged(tree, "sampler").next() {
             let spp = self.int(sampler, "sample_count", 4).max(1);
             self.desc.pixel_samples = Some(spp as u32);
-            if !["independent", "stratified", "multijitter", "ldsampler", "orthogonal"].contains(&sampler.plugin.as_str()) {
-                self.warn(&sampler.loc, format!("sampler \"{}\" rendered with foton's sampler", sampler.plugin));
+            if ![
+                "independent",
+                "stratified",
+                "multijitter",
+                "ldsampler",
+                "orthogonal",
+            ]
+            .contains(&sampler.plugin.as_str())
+            {
+                self.warn(
+                    &sampler.loc,
+                    format!(
+                        "sampler \"{}\" rendered with foton's sampler",
+                        sampler.plugin
+                    ),
+                );
             }
             sampler.prop("seed");
             self.report_unused(sampler);
         }
         // Mitsuba's camera space has x to the image's left; foton's to its right.
-        let to_world = self.transform(sensor, "to_world") * DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
+        let to_world =
+            self.transform(sensor, "to_world") * DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
         let camera = &mut self.desc.camera;
         camera.camera_to_world = to_world.as_mat4();
         camera.location = location(&sensor.loc);
@@ -320,7 +381,10 @@ impl Converter<'_> {
             "perspective" | "thinlens" => {}
             other => {
                 let other = other.to_string();
-                self.warn(&sensor.loc, format!("sensor \"{other}\" rendered as \"perspective\""));
+                self.warn(
+                    &sensor.loc,
+                    format!("sensor \"{other}\" rendered as \"perspective\""),
+                );
             }
         }
         let fov = if sensor.prop("fov").is_some() {
@@ -339,7 +403,8 @@ impl Converter<'_> {
         let axis = if sensor.prop("focal_length").is_some() && sensor.prop("fov").is_none() {
             "diagonal".to_string()
         } else {
-            self.string(sensor, "fov_axis").unwrap_or_else(|| "x".into())
+            self.string(sensor, "fov_axis")
+                .unwrap_or_else(|| "x".into())
         };
         let (w, h) = (width as f32, height as f32);
         let axis_len = match axis.as_str() {
@@ -393,7 +458,9 @@ impl Converter<'_> {
                 let radius = self.float(rfilter, "radius", 1.0);
                 self.warn(
                     &rfilter.loc,
-                    format!("rfilter \"{other}\" approximated by a Gaussian of the tent's variance"),
+                    format!(
+                        "rfilter \"{other}\" approximated by a Gaussian of the tent's variance"
+                    ),
                 );
                 self.report_unused(rfilter);
                 let mut f = gaussian_filter(radius / 6f32.sqrt());

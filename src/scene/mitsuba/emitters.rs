@@ -13,12 +13,21 @@ use std::sync::Arc;
 /// The area light of a shape's `<emitter type="area">`.
 pub fn area(cx: &mut Converter, emitter: &Object) -> Option<AreaLightDesc> {
     if emitter.plugin != "area" {
-        cx.warn(&emitter.loc, format!("emitter \"{}\" inside a shape not supported", emitter.plugin));
+        cx.warn(
+            &emitter.loc,
+            format!(
+                "emitter \"{}\" inside a shape not supported",
+                emitter.plugin
+            ),
+        );
         return None;
     }
     let radiance = cx.rgb(emitter, "radiance", Vec3::ONE);
     if emitter.named_child(cx.tree, "radiance").is_some() {
-        cx.warn(&emitter.loc, "textured radiance not supported: 1 used".into());
+        cx.warn(
+            &emitter.loc,
+            "textured radiance not supported: 1 used".into(),
+        );
     }
     cx.report_unused(emitter);
     Some(AreaLightDesc {
@@ -55,7 +64,10 @@ pub fn emitter(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
             );
             LightDesc::Spot {
                 position: to_world.transform_point3(glam::DVec3::ZERO).as_vec3(),
-                direction: to_world.transform_vector3(glam::DVec3::Z).as_vec3().normalize_or(Vec3::Z),
+                direction: to_world
+                    .transform_vector3(glam::DVec3::Z)
+                    .as_vec3()
+                    .normalize_or(Vec3::Z),
                 intensity: cx.rgb(object, "intensity", Vec3::ONE),
                 cone_angle: cutoff,
                 cone_delta_angle: cutoff - beam,
@@ -81,8 +93,12 @@ pub fn emitter(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
                 .string(object, "filename")
                 .ok_or_else(|| cx.error(&loc, "envmap needs a filename".into()))?;
             let path = cx.tree.resolve(&name);
-            let image = images::decode(&path, 2.2, 1.0)
-                .map_err(|e| cx.error(&loc, format!("cannot read envmap \"{}\": {e}", path.display())))?;
+            let image = images::decode(&path, 2.2, 1.0).map_err(|e| {
+                cx.error(
+                    &loc,
+                    format!("cannot read envmap \"{}\": {e}", path.display()),
+                )
+            })?;
             cx.desc.textures.push(ImageTexture {
                 name: name.clone(),
                 path,

@@ -11,14 +11,19 @@ use glam::{Vec2, Vec3};
 use super::conductors::CONDUCTORS;
 use super::convert::Converter;
 use super::tree::{Object, Value};
-use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, MaterialId, SceneError, TextureId};
+use crate::scene::desc::{
+    ColorParam, ImageTexture, MaterialDesc, MaterialId, SceneError, TextureId,
+};
 use crate::scene::lxs::images;
 
 /// Mitsuba's default surface: diffuse, reflectance 0.5.
 pub fn default_material(cx: &mut Converter) -> MaterialId {
-    push(cx, MaterialDesc::Matte {
-        kd: ColorParam::Constant(Vec3::splat(0.5)),
-    })
+    push(
+        cx,
+        MaterialDesc::Matte {
+            kd: ColorParam::Constant(Vec3::splat(0.5)),
+        },
+    )
 }
 
 fn push(cx: &mut Converter, material: MaterialDesc) -> MaterialId {
@@ -28,7 +33,12 @@ fn push(cx: &mut Converter, material: MaterialDesc) -> MaterialId {
 
 /// The material of BSDF `object` (converted once, shared by every reference).
 pub fn bsdf(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError> {
-    let key = cx.tree.objects.iter().position(|o| std::ptr::eq(o, object)).unwrap_or(usize::MAX);
+    let key = cx
+        .tree
+        .objects
+        .iter()
+        .position(|o| std::ptr::eq(o, object))
+        .unwrap_or(usize::MAX);
     if let Some(&id) = cx.materials.get(&key) {
         return Ok(id);
     }
@@ -55,7 +65,10 @@ fn ior(cx: &mut Converter, object: &Object, name: &str, default: f32) -> f32 {
         Some((Value::String(s), loc)) => match named_ior(&s) {
             Some(v) => v,
             None => {
-                cx.warn(&loc, format!("unknown index of refraction \"{s}\": {default} used"));
+                cx.warn(
+                    &loc,
+                    format!("unknown index of refraction \"{s}\": {default} used"),
+                );
                 default
             }
         },
@@ -115,7 +128,9 @@ fn conductor_reflectance(cx: &mut Converter, object: &Object) -> (Vec3, bool) {
         object.prop("material");
         return (conductor_f0(eta / ext, k / ext), false);
     }
-    let material = cx.string(object, "material").unwrap_or_else(|| "none".into());
+    let material = cx
+        .string(object, "material")
+        .unwrap_or_else(|| "none".into());
     if material == "none" {
         return (Vec3::ONE, true);
     }
@@ -125,7 +140,10 @@ fn conductor_reflectance(cx: &mut Converter, object: &Object) -> (Vec3, bool) {
             false,
         ),
         None => {
-            cx.warn(&loc, format!("unknown conductor material \"{material}\": a perfect mirror used"));
+            cx.warn(
+                &loc,
+                format!("unknown conductor material \"{material}\": a perfect mirror used"),
+            );
             (Vec3::ONE, true)
         }
     }
@@ -133,11 +151,15 @@ fn conductor_reflectance(cx: &mut Converter, object: &Object) -> (Vec3, bool) {
 
 /// GGX alphas (`alpha`, or `alpha_u` and `alpha_v`); Beckmann is read as GGX with a warning.
 fn alphas(cx: &mut Converter, object: &Object) -> (f32, f32) {
-    let distribution = cx.string(object, "distribution").unwrap_or_else(|| "beckmann".into());
+    let distribution = cx
+        .string(object, "distribution")
+        .unwrap_or_else(|| "beckmann".into());
     if distribution != "ggx" {
         cx.warn(
             &object.loc,
-            format!("microfacet distribution \"{distribution}\" approximated by GGX of the same alpha"),
+            format!(
+                "microfacet distribution \"{distribution}\" approximated by GGX of the same alpha"
+            ),
         );
     }
     object.prop("sample_visible");
@@ -174,14 +196,23 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
             kd: cx.color(object, "reflectance", Vec3::splat(0.5)),
         },
         "twosided" | "mask" | "bumpmap" | "normalmap" => {
-            let nested: Vec<_> = object.children_tagged(tree, "bsdf").map(|(_, b)| b).collect();
+            let nested: Vec<_> = object
+                .children_tagged(tree, "bsdf")
+                .map(|(_, b)| b)
+                .collect();
             match object.plugin.as_str() {
                 "twosided" => {
                     if nested.len() > 1 {
-                        cx.warn(&loc, "twosided with two BSDFs: the front one is used on both sides".into());
+                        cx.warn(
+                            &loc,
+                            "twosided with two BSDFs: the front one is used on both sides".into(),
+                        );
                     }
                 }
-                "mask" => cx.warn(&loc, "mask: the opacity is ignored (the surface is opaque)".into()),
+                "mask" => cx.warn(
+                    &loc,
+                    "mask: the opacity is ignored (the surface is opaque)".into(),
+                ),
                 other => cx.warn(&loc, format!("{other}: the perturbation is ignored")),
             }
             for name in ["opacity", "normalmap", "scale"] {
@@ -236,10 +267,15 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
                 metal(kr, alphas(cx, object))
             }
         }
-        "plastic" | "roughplastic" | "principled" => return plastic(cx, object).map(Converted::Existing),
+        "plastic" | "roughplastic" | "principled" => {
+            return plastic(cx, object).map(Converted::Existing);
+        }
         "null" => MaterialDesc::Null,
         other => {
-            cx.warn(&loc, format!("BSDF \"{other}\" not supported: diffuse 0.5 used"));
+            cx.warn(
+                &loc,
+                format!("BSDF \"{other}\" not supported: diffuse 0.5 used"),
+            );
             return Ok(Converted::Existing(default_material(cx)));
         }
     }))
@@ -317,7 +353,11 @@ fn average_fresnel(eta: f32) -> f32 {
 
 /// The image texture for texture `object` (converted once).
 pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
-    let key = cx.tree.objects.iter().position(|o| std::ptr::eq(o, object))?;
+    let key = cx
+        .tree
+        .objects
+        .iter()
+        .position(|o| std::ptr::eq(o, object))?;
     if let Some(&id) = cx.textures.get(&key) {
         return Some(id);
     }
@@ -327,7 +367,10 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
     let scale = Vec2::new(to_uv.x_axis.x as f32, to_uv.y_axis.y as f32);
     let delta = Vec2::new(to_uv.w_axis.x as f32, to_uv.w_axis.y as f32);
     if to_uv.x_axis.y != 0.0 || to_uv.y_axis.x != 0.0 {
-        cx.warn(&loc, "to_uv rotation or shear ignored (only scale and translation apply)".into());
+        cx.warn(
+            &loc,
+            "to_uv rotation or shear ignored (only scale and translation apply)".into(),
+        );
     }
     let image = match object.plugin.as_str() {
         "checkerboard" => {
@@ -356,13 +399,19 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
             match images::decode(&path, gamma, 1.0) {
                 Ok(img) => (img.width, img.height, img.texels, name),
                 Err(e) => {
-                    cx.warn(&loc, format!("cannot read bitmap \"{}\": {e}; grey used", path.display()));
+                    cx.warn(
+                        &loc,
+                        format!("cannot read bitmap \"{}\": {e}; grey used", path.display()),
+                    );
                     return None;
                 }
             }
         }
         other => {
-            cx.warn(&loc, format!("texture \"{other}\" not supported: its parameter's default used"));
+            cx.warn(
+                &loc,
+                format!("texture \"{other}\" not supported: its parameter's default used"),
+            );
             return None;
         }
     };
@@ -398,7 +447,11 @@ mod tests {
     #[test]
     fn average_fresnel_of_glass() {
         // A known value: about 9.2 % for n = 1.5 (hemispherical-average Fresnel reflectance).
-        assert!((average_fresnel(1.5) - 0.092).abs() < 0.003, "{}", average_fresnel(1.5));
+        assert!(
+            (average_fresnel(1.5) - 0.092).abs() < 0.003,
+            "{}",
+            average_fresnel(1.5)
+        );
         assert!(average_fresnel(1.0) < 1e-6);
     }
 }

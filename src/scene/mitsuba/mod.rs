@@ -7,8 +7,8 @@ pub mod conductors;
 pub mod convert;
 pub mod dom;
 pub mod emitters;
-pub mod materials;
 pub mod error;
+pub mod materials;
 pub mod parser;
 pub mod shapes;
 pub mod spectrum;
@@ -16,8 +16,8 @@ pub mod transform;
 pub mod tree;
 pub mod upgrade;
 
-pub use error::{MitsubaError, MitsubaWarning, SourceLoc};
 pub use convert::load;
+pub use error::{MitsubaError, MitsubaWarning, SourceLoc};
 pub use parser::{parse_file, parse_str};
 pub use tree::{Object, ObjectId, SceneTree, Value};
 

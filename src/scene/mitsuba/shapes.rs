@@ -30,7 +30,10 @@ pub fn shape(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
                 .ok_or_else(|| cx.error(&loc, format!("{} needs a filename", object.describe())))?;
             let path = tree.resolve(&name);
             if !path.is_file() {
-                return Err(cx.error(&loc, format!("mesh file \"{name}\" not found ({})", path.display())));
+                return Err(cx.error(
+                    &loc,
+                    format!("mesh file \"{name}\" not found ({})", path.display()),
+                ));
             }
             let mesh = match object.plugin.as_str() {
                 "obj" => obj::read_obj(&path).map_err(|e| e.to_string()),
@@ -53,7 +56,10 @@ pub fn shape(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
             let center = cx.vec3(object, "center", Vec3::ZERO);
             let radius = cx.float(object, "radius", 1.0);
             if flip {
-                cx.warn(&loc, "flip_normals on a sphere not supported: normals point outwards".into());
+                cx.warn(
+                    &loc,
+                    "flip_normals on a sphere not supported: normals point outwards".into(),
+                );
             }
             to_world *= DMat4::from_translation(center.as_dvec3());
             return finish(cx, object, Geometry::Sphere { radius }, to_world);
@@ -110,15 +116,30 @@ pub fn shape(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
     finish(cx, object, geometry, to_world)
 }
 
-fn finish(cx: &mut Converter, object: &Object, geometry: Geometry, to_world: DMat4) -> Result<(), SceneError> {
+fn finish(
+    cx: &mut Converter,
+    object: &Object,
+    geometry: Geometry,
+    to_world: DMat4,
+) -> Result<(), SceneError> {
     let tree = cx.tree;
-    let bsdfs: Vec<_> = object.children_tagged(tree, "bsdf").map(|(_, b)| b).collect();
+    let bsdfs: Vec<_> = object
+        .children_tagged(tree, "bsdf")
+        .map(|(_, b)| b)
+        .collect();
     let material = match bsdfs.first() {
         Some(b) => materials::bsdf(cx, b)?,
         None => materials::default_material(cx),
     };
     if bsdfs.len() > 1 {
-        cx.warn(&object.loc, format!("{} has {} BSDFs: the first is used", object.describe(), bsdfs.len()));
+        cx.warn(
+            &object.loc,
+            format!(
+                "{} has {} BSDFs: the first is used",
+                object.describe(),
+                bsdfs.len()
+            ),
+        );
     }
     let mut area_light = None;
     for (_, emitter) in object.children_tagged(tree, "emitter") {
@@ -175,7 +196,12 @@ fn rectangle() -> TriangleMesh {
     TriangleMesh {
         positions: corners.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
         normals: Some(vec![Vec3::Z; 4]),
-        uvs: Some(corners.iter().map(|&(x, y)| Vec2::new((x + 1.0) / 2.0, (y + 1.0) / 2.0)).collect()),
+        uvs: Some(
+            corners
+                .iter()
+                .map(|&(x, y)| Vec2::new((x + 1.0) / 2.0, (y + 1.0) / 2.0))
+                .collect(),
+        ),
         indices: vec![[0, 1, 2], [0, 2, 3]],
     }
 }
@@ -205,16 +231,27 @@ fn cube() -> TriangleMesh {
         uvs: Some(Vec::new()),
         ..TriangleMesh::default()
     };
-    for n in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+    for n in [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ] {
         // (s, t, n) right-handed, so that the corners below run counter-clockwise about n.
-        let s = if n.x.abs() > 0.5 { Vec3::Y } else { Vec3::X } * n.max_element().max(-n.min_element());
+        let s =
+            if n.x.abs() > 0.5 { Vec3::Y } else { Vec3::X } * n.max_element().max(-n.min_element());
         let s = if n.dot(Vec3::ONE) < 0.0 { -s } else { s };
         let t = n.cross(s);
         let base = mesh.positions.len() as u32;
         for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
             mesh.positions.push(n + s * a + t * b);
             mesh.normals.as_mut().unwrap().push(n);
-            mesh.uvs.as_mut().unwrap().push(Vec2::new((a + 1.0) / 2.0, (b + 1.0) / 2.0));
+            mesh.uvs
+                .as_mut()
+                .unwrap()
+                .push(Vec2::new((a + 1.0) / 2.0, (b + 1.0) / 2.0));
         }
         mesh.indices.push([base, base + 1, base + 2]);
         mesh.indices.push([base, base + 2, base + 3]);
@@ -235,7 +272,10 @@ fn cylinder() -> TriangleMesh {
         for z in [0.0, 1.0] {
             mesh.positions.push(n + Vec3::Z * z);
             mesh.normals.as_mut().unwrap().push(n);
-            mesh.uvs.as_mut().unwrap().push(Vec2::new(i as f32 / SEGMENTS as f32, z));
+            mesh.uvs
+                .as_mut()
+                .unwrap()
+                .push(Vec2::new(i as f32 / SEGMENTS as f32, z));
         }
     }
     for i in 0..SEGMENTS as u32 {
@@ -263,7 +303,11 @@ mod tests {
     fn tessellated_shapes_face_outwards_with_their_normals() {
         for mesh in [cube(), cylinder()] {
             assert!(outward(&mesh));
-            for (&[a, b, c], normals) in mesh.indices.iter().zip(std::iter::repeat(mesh.normals.as_ref().unwrap())) {
+            for (&[a, b, c], normals) in mesh
+                .indices
+                .iter()
+                .zip(std::iter::repeat(mesh.normals.as_ref().unwrap()))
+            {
                 let p = |i: u32| mesh.positions[i as usize];
                 let n = (p(b) - p(a)).cross(p(c) - p(a));
                 assert!(n.dot(normals[a as usize]) > 0.0);
@@ -273,10 +317,14 @@ mod tests {
         let p = |i: u32| r.positions[i as usize];
         assert!((p(1) - p(0)).cross(p(2) - p(0)).z > 0.0);
         let d = disk();
-        let area: f32 = d.indices.iter().map(|&[a, b, c]| {
-            let p = |i: u32| d.positions[i as usize];
-            0.5 * (p(b) - p(a)).cross(p(c) - p(a)).z
-        }).sum();
+        let area: f32 = d
+            .indices
+            .iter()
+            .map(|&[a, b, c]| {
+                let p = |i: u32| d.positions[i as usize];
+                0.5 * (p(b) - p(a)).cross(p(c) - p(a)).z
+            })
+            .sum();
         assert!((area - std::f32::consts::PI).abs() < 1e-3 * std::f32::consts::PI);
     }
 
@@ -284,6 +332,10 @@ mod tests {
     fn computed_normals_of_a_flat_mesh_are_its_normal() {
         let mut r = rectangle();
         r.normals = None;
-        assert!(vertex_normals(&r).iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+        assert!(
+            vertex_normals(&r)
+                .iter()
+                .all(|n| (*n - Vec3::Z).length() < 1e-6)
+        );
     }
 }
