@@ -45,7 +45,7 @@ fn read_exr(path: &Path) -> (u32, u32, Vec<Vec3>) {
 }
 
 fn render(name: &str, seed: u64) -> Vec<Vec3> {
-    let desc = foton::scene::mitsuba::load(&folder().join(format!("{name}.xml")), &[]).unwrap();
+    let desc = foton::scene::load(&folder().join(format!("{name}.xml"))).unwrap();
     let options = RenderOptions {
         samples_per_pixel: Some(SPP),
         seed,

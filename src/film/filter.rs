@@ -10,12 +10,22 @@ use std::f32::consts::PI;
 use glam::Vec2;
 
 use crate::sampling::Distribution1D;
-use crate::scene::desc::{FilterDesc, FilterKind};
 
 /// Bins of the tabulated inverse CDF over [0, r] of each axis.
 const TABLE_BINS: usize = 64;
 /// Simpson panels integrating the filter over one bin.
 const PANELS_PER_BIN: usize = 8;
+
+/// The filter's profile along each axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FilterKind {
+    Box,
+    /// `alpha`: the falloff, as in pbrt: exp(-alpha x^2) - exp(-alpha r^2).
+    Gaussian {
+        alpha: f32,
+    },
+    BlackmanHarris,
+}
 
 /// A separable filter f(x, y) = f1(x; rx) f1(y; ry) on [-rx, rx] x [-ry, ry].
 #[derive(Clone, Debug)]
@@ -28,15 +38,15 @@ pub struct PixelFilter {
 
 impl PixelFilter {
     /// A non-finite or non-positive radius is replaced by 0.5 (a one-pixel box).
-    pub fn new(desc: &FilterDesc) -> Self {
+    pub fn new(kind: FilterKind, radius: Vec2) -> Self {
         let sanitise = |r: f32| if r.is_finite() && r > 0.0 { r } else { 0.5 };
-        let radius = Vec2::new(sanitise(desc.radius.x), sanitise(desc.radius.y));
-        let tables = match desc.kind {
+        let radius = Vec2::new(sanitise(radius.x), sanitise(radius.y));
+        let tables = match kind {
             FilterKind::Box => None,
             kind => Some([radius.x, radius.y].map(|r| half_axis_table(kind, r))),
         };
         Self {
-            kind: desc.kind,
+            kind,
             radius,
             tables,
         }
@@ -119,7 +129,7 @@ mod tests {
             (FilterKind::Gaussian { alpha: 2.0 }, Vec2::new(2.0, 1.0)),
             (FilterKind::BlackmanHarris, Vec2::new(2.0, 2.0)),
         ]
-        .map(|(kind, radius)| PixelFilter::new(&FilterDesc { kind, radius }))
+        .map(|(kind, radius)| PixelFilter::new(kind, radius))
         .to_vec()
     }
 

@@ -1,7 +1,11 @@
-//! Readers of the files scenes refer to, shared by every format: meshes (OBJ, Mitsuba's
-//! `.serialized`) read into a format-neutral [`TriangleMesh`].
+//! File readers every scene format shares: meshes and images. They know no format's scene
+//! language; each returns a message saying what is wrong with the file, which the loader wraps
+//! with the scene file and line that named it. Meshes (OBJ, PLY, Mitsuba's `.serialized`) read
+//! into a format-neutral [`TriangleMesh`] (OBJ and `.serialized`) or the description's geometry.
 
+pub mod image;
 pub mod obj;
+pub mod ply;
 pub mod serialized;
 
 use std::fmt;

@@ -2,13 +2,11 @@
 //! as the course's scenes extend it.
 
 mod camera;
-pub mod images;
 mod lights;
 mod materials;
 mod params;
 mod parser;
 mod paths;
-pub mod ply;
 mod shapes;
 mod tokenizer;
 

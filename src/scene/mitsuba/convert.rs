@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::{DMat4, DVec3, Mat4, Vec2, Vec3};
+use glam::{DMat4, DVec3, Vec2, Vec3};
 
 use super::error::SourceLoc;
 use super::tree::{Object, ObjectId, SceneTree, Value};
@@ -17,8 +17,13 @@ use crate::scene::desc::{
     SceneWarning, TextureId, ToneMap,
 };
 
+/// Reads the Mitsuba scene at `path` (the loader registered for `.xml` in `scene::LOADERS`).
+pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
+    load_with(path, &[])
+}
+
 /// Reads the Mitsuba scene at `path` with `-D name=value` parameters `defines`.
-pub fn load(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc, SceneError> {
+pub fn load_with(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc, SceneError> {
     let tree = super::parse_file(path, defines).map_err(|e| SceneError {
         location: location(&e.loc),
         message: e.message,
@@ -31,6 +36,7 @@ pub fn location(loc: &SourceLoc) -> Location {
     Location {
         file: loc.file.to_path_buf(),
         line: loc.line,
+        column: Some(loc.column),
     }
 }
 
@@ -483,9 +489,4 @@ fn gaussian_filter(stddev: f32) -> FilterDesc {
         },
         radius: Vec2::splat(4.0 * stddev),
     }
-}
-
-/// `m` as f32.
-pub fn to_mat4(m: DMat4) -> Mat4 {
-    m.as_mat4()
 }

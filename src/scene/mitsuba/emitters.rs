@@ -7,7 +7,7 @@ use glam::{DMat4, Mat3, Mat4, Vec3};
 use super::convert::Converter;
 use super::tree::Object;
 use crate::scene::desc::{AreaLightDesc, ImageTexture, LightDesc, SceneError};
-use crate::scene::lxs::images;
+use crate::scene::io::image as images;
 use std::sync::Arc;
 
 /// The area light of a shape's `<emitter type="area">`.
@@ -30,12 +30,7 @@ pub fn area(cx: &mut Converter, emitter: &Object) -> Option<AreaLightDesc> {
         );
     }
     cx.report_unused(emitter);
-    Some(AreaLightDesc {
-        l: radiance,
-        gain: 1.0,
-        power: 0.0,
-        efficacy: 0.0,
-    })
+    Some(AreaLightDesc { radiance })
 }
 
 /// A scene-level emitter.

@@ -14,14 +14,14 @@ use super::tree::{Object, Value};
 use crate::scene::desc::{
     ColorParam, ImageTexture, MaterialDesc, MaterialId, SceneError, TextureId,
 };
-use crate::scene::lxs::images;
+use crate::scene::io::image as images;
 
 /// Mitsuba's default surface: diffuse, reflectance 0.5.
 pub fn default_material(cx: &mut Converter) -> MaterialId {
     push(
         cx,
-        MaterialDesc::Matte {
-            kd: ColorParam::Constant(Vec3::splat(0.5)),
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Constant(Vec3::splat(0.5)),
         },
     )
 }
@@ -172,12 +172,12 @@ fn alphas(cx: &mut Converter, object: &Object) -> (f32, f32) {
     }
 }
 
-/// foton's metal takes the roughness that its microfacet code turns into alpha.
-fn metal(kr: ColorParam, (alpha_u, alpha_v): (f32, f32)) -> MaterialDesc {
-    MaterialDesc::Metal {
-        kr,
-        u_roughness: alpha_u,
-        v_roughness: alpha_v,
+/// A GGX conductor with Schlick's Fresnel from `specular` at normal incidence.
+fn metal(specular: ColorParam, (alpha_u, alpha_v): (f32, f32)) -> MaterialDesc {
+    MaterialDesc::RoughConductor {
+        specular,
+        alpha_u,
+        alpha_v,
     }
 }
 
@@ -192,8 +192,8 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
     let tree = cx.tree;
     let loc = object.loc.clone();
     Ok(Converted::New(match object.plugin.as_str() {
-        "diffuse" => MaterialDesc::Matte {
-            kd: cx.color(object, "reflectance", Vec3::splat(0.5)),
+        "diffuse" => MaterialDesc::Diffuse {
+            reflectance: cx.color(object, "reflectance", Vec3::splat(0.5)),
         },
         "twosided" | "mask" | "bumpmap" | "normalmap" => {
             let nested: Vec<_> = object
@@ -245,10 +245,10 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
                 ),
                 _ => {}
             }
-            MaterialDesc::Glass {
-                kr: cx.color(object, "specular_reflectance", Vec3::ONE),
-                kt: cx.color(object, "specular_transmittance", Vec3::ONE),
-                index: int / ext,
+            MaterialDesc::Dielectric {
+                reflectance: cx.color(object, "specular_reflectance", Vec3::ONE),
+                transmittance: cx.color(object, "specular_transmittance", Vec3::ONE),
+                ior: int / ext,
             }
         }
         "conductor" | "roughconductor" => {
@@ -262,7 +262,7 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
             }
             let kr = scaled(cx.color(object, "specular_reflectance", Vec3::ONE), f0);
             if object.plugin == "conductor" {
-                MaterialDesc::Mirror { kr }
+                MaterialDesc::Mirror { reflectance: kr }
             } else {
                 metal(kr, alphas(cx, object))
             }
@@ -303,7 +303,7 @@ fn plastic(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError
             return Ok(push(cx, metal(base, (alpha, alpha))));
         }
         let eta = cx.float(object, "eta", 1.5);
-        let base = push(cx, MaterialDesc::Matte { kd: base });
+        let base = push(cx, MaterialDesc::Diffuse { reflectance: base });
         let coat = push(cx, metal(ColorParam::Constant(Vec3::ONE), (alpha, alpha)));
         return Ok(push(cx, mix(base, coat, eta)));
     }
@@ -316,7 +316,9 @@ fn plastic(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError
         let (a, b) = alphas(cx, object);
         metal(specular, (a, b))
     } else {
-        MaterialDesc::Mirror { kr: specular }
+        MaterialDesc::Mirror {
+            reflectance: specular,
+        }
     };
     cx.warn(
         &loc,
@@ -326,7 +328,12 @@ fn plastic(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError
             if rough { "rough" } else { "mirror" }
         ),
     );
-    let base = push(cx, MaterialDesc::Matte { kd: diffuse });
+    let base = push(
+        cx,
+        MaterialDesc::Diffuse {
+            reflectance: diffuse,
+        },
+    );
     let coat = push(cx, coat);
     Ok(push(cx, mix(base, coat, int / ext)))
 }

@@ -11,8 +11,8 @@ use super::convert::{Converter, location};
 use super::tree::Object;
 use super::{emitters, materials};
 use crate::scene::desc::{Geometry, SceneError, ShapeDesc};
+use crate::scene::io::ply;
 use crate::scene::io::{TriangleMesh, obj, serialized};
-use crate::scene::lxs::ply;
 
 /// Segments around a disk or a cylinder: the area is short by (2 pi / n)^2 / 6, 0.004 %.
 const SEGMENTS: usize = 256;
