@@ -48,6 +48,8 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
         desc: SceneDesc::empty(location(&root.loc)),
         materials: HashMap::new(),
         textures: HashMap::new(),
+        within_twosided: 0,
+        one_sided: None,
     };
     cx.desc
         .warnings
@@ -99,6 +101,14 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
         }
     }
     cx.report_unused(root);
+    if let Some(loc) = cx.one_sided.take() {
+        cx.warn(
+            &loc,
+            "diffuse outside twosided is one-sided in Mitsuba (black from the back); foton shades \
+             it from both sides (this and every other one-sided diffuse BSDF)"
+                .into(),
+        );
+    }
     Ok(cx.desc)
 }
 
@@ -112,6 +122,10 @@ pub struct Converter<'a> {
     /// BSDF objects already converted (a `ref` shares one material).
     pub materials: HashMap<ObjectId, MaterialId>,
     pub textures: HashMap<ObjectId, TextureId>,
+    /// How many `twosided` BSDFs enclose the one being converted.
+    pub within_twosided: usize,
+    /// The first one-sided diffuse BSDF, reported once.
+    pub one_sided: Option<SourceLoc>,
 }
 
 impl Converter<'_> {
@@ -393,24 +407,27 @@ impl Converter<'_> {
                 );
             }
         }
-        let fov = if sensor.prop("fov").is_some() {
-            self.float(sensor, "fov", 45.0)
-        } else if let Some(f) = sensor.prop("focal_length").map(|p| p.value.clone()) {
-            // A 35 mm film's diagonal (43.27 mm) over the focal length, on the diagonal.
-            let mm = match f {
-                Value::String(s) => s.trim_end_matches("mm").trim().parse().unwrap_or(50.0),
-                Value::Float(v) => v as f32,
+        // `fov` along `fov_axis`, or else a `focal_length` (default 50 mm) on a 36 x 24 mm film, a
+        // field of view along the film's diagonal, as Mitsuba's `parse_fov`.
+        let (fov, axis) = if sensor.prop("fov").is_some() {
+            let fov = self.float(sensor, "fov", 45.0);
+            (
+                fov,
+                self.string(sensor, "fov_axis")
+                    .unwrap_or_else(|| "x".into()),
+            )
+        } else {
+            let mm = match sensor.prop("focal_length").map(|p| p.value.clone()) {
+                Some(Value::String(s)) => s.trim_end_matches("mm").trim().parse().unwrap_or(50.0),
+                Some(Value::Float(v)) => v as f32,
                 _ => 50.0,
             };
-            2.0 * (43.266_615 / (2.0 * mm)).atan().to_degrees()
-        } else {
-            45.0
-        };
-        let axis = if sensor.prop("focal_length").is_some() && sensor.prop("fov").is_none() {
-            "diagonal".to_string()
-        } else {
-            self.string(sensor, "fov_axis")
-                .unwrap_or_else(|| "x".into())
+            sensor.prop("fov_axis");
+            let diagonal = 36f32.hypot(24.0);
+            (
+                2.0 * (diagonal / (2.0 * mm)).atan().to_degrees(),
+                "diagonal".to_string(),
+            )
         };
         let (w, h) = (width as f32, height as f32);
         let axis_len = match axis.as_str() {

@@ -192,9 +192,14 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
     let tree = cx.tree;
     let loc = object.loc.clone();
     Ok(Converted::New(match object.plugin.as_str() {
-        "diffuse" => MaterialDesc::Diffuse {
-            reflectance: cx.color(object, "reflectance", Vec3::splat(0.5)),
-        },
+        "diffuse" => {
+            if cx.within_twosided == 0 && cx.one_sided.is_none() {
+                cx.one_sided = Some(loc);
+            }
+            MaterialDesc::Diffuse {
+                reflectance: cx.color(object, "reflectance", Vec3::splat(0.5)),
+            }
+        }
         "twosided" | "mask" | "bumpmap" | "normalmap" => {
             let nested: Vec<_> = object
                 .children_tagged(tree, "bsdf")
@@ -224,10 +229,14 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
                     child.used.set(true);
                 }
             }
-            return Ok(Converted::Existing(match nested.first() {
-                Some(inner) => bsdf(cx, inner)?,
-                None => default_material(cx),
-            }));
+            let twosided = usize::from(object.plugin == "twosided");
+            cx.within_twosided += twosided;
+            let inner = match nested.first() {
+                Some(inner) => bsdf(cx, inner),
+                None => Ok(default_material(cx)),
+            };
+            cx.within_twosided -= twosided;
+            return inner.map(Converted::Existing);
         }
         "dielectric" | "roughdielectric" | "thindielectric" => {
             let int = ior(cx, object, "int_ior", 1.5046);
