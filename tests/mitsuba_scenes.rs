@@ -111,8 +111,8 @@ fn fov_axis_gives_the_field_of_view_of_the_shorter_side() {
 
 #[test]
 fn the_image_is_not_mirrored() {
-    // Looking down +z with y up, Mitsuba's camera x is image left; a white sphere at world +x
-    // (image left: up x forward = +x ... here -x is right) appears on the image's left half.
+    // Looking down +z with y up, world +x is to the viewer's left (Mitsuba's camera x = up x
+    // forward = +x points to the image's left): a glowing sphere at x = 1.5 shows on the left half.
     let body = r#"<shape type="sphere"><point name="center" x="1.5" y="0" z="5"/>
         <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
         <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#;
