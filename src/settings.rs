@@ -4,6 +4,8 @@ use std::time::Duration;
 
 use bevy_ecs::prelude::Resource;
 
+use crate::film::Reconstruction;
+use crate::light::LightSelection;
 use crate::sampling::SamplerKind;
 
 /// The two integrators; each is a choice of shading stage over the same batches.
@@ -34,3 +36,26 @@ impl RenderSettings {
         self.width as usize * self.height as usize
     }
 }
+
+/// How the path tracer spends its samples; each default is the one measured best
+/// (docs/error-per-second.md). A resource of its own, so a render without it gets the defaults.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct Techniques {
+    pub light_selection: LightSelection,
+    /// Bounces before Russian roulette may end a path.
+    pub rr_depth: u32,
+    pub film: Reconstruction,
+}
+
+impl Default for Techniques {
+    fn default() -> Self {
+        Self {
+            light_selection: LightSelection::default(),
+            rr_depth: DEFAULT_RR_DEPTH,
+            film: Reconstruction::default(),
+        }
+    }
+}
+
+/// Mitsuba 3's default; see `Techniques::rr_depth`.
+pub const DEFAULT_RR_DEPTH: u32 = 5;

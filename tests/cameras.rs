@@ -18,9 +18,10 @@ use std::path::Path;
 
 use common::*;
 use foton::camera::equirectangular::equirectangular_direction;
-use foton::camera::fisheye::{FisheyeFit, fisheye_direction};
-use foton::scene::build::{CameraKind, RenderOptions};
-use foton::scene::desc::{CameraDesc, MaterialDesc, Projection, SceneDesc};
+use foton::camera::fisheye::{self, FisheyeFit, fisheye_direction};
+use foton::camera::{CameraType, equirectangular, orthographic, pinhole, thin_lens};
+use foton::scene::build::RenderOptions;
+use foton::scene::desc::{CameraDesc, MaterialDesc, SceneDesc};
 use foton::settings::IntegratorKind;
 use glam::{Vec2, Vec3};
 
@@ -96,7 +97,7 @@ fn face_towards(direction: Vec3) -> (Vec3, f32) {
     (axis, ((a[dominant] - second) * FRAC_1_SQRT_2).asin())
 }
 
-fn overrides(camera: CameraKind, integrator: IntegratorKind, spp: u32) -> RenderOptions {
+fn overrides(camera: &'static CameraType, integrator: IntegratorKind, spp: u32) -> RenderOptions {
     RenderOptions {
         camera: Some(camera),
         integrator,
@@ -120,13 +121,8 @@ fn scene_file(name: &str) -> SceneDesc {
 
 #[test]
 fn every_camera_and_lens_renders_finite_non_black_images_with_both_integrators() {
-    let cameras = [
-        CameraKind::Pinhole,
-        CameraKind::ThinLens,
-        CameraKind::Fisheye,
-        CameraKind::Orthographic,
-        CameraKind::Equirectangular,
-    ];
+    // Every camera in the registry.
+    let cameras = foton::camera::CAMERAS;
     let scenes = [
         ("test box", test_box()),
         ("default.lxs", scene_file("default.lxs")),
@@ -178,7 +174,7 @@ fn every_camera_and_lens_renders_finite_non_black_images_with_both_integrators()
 
 #[test]
 fn lens_of_radius_zero_is_bitwise_the_camera_without_lens() {
-    let zero_lens = |camera: CameraKind, lens_radius: Option<f32>| {
+    let zero_lens = |camera: &'static CameraType, lens_radius: Option<f32>| {
         let options = RenderOptions {
             lens_radius,
             focal_distance: Some(2.0),
@@ -194,12 +190,12 @@ fn lens_of_radius_zero_is_bitwise_the_camera_without_lens() {
         )
     };
     assert_eq!(
-        zero_lens(CameraKind::ThinLens, Some(0.0)),
-        zero_lens(CameraKind::Pinhole, None)
+        zero_lens(&thin_lens::CAMERA, Some(0.0)),
+        zero_lens(&pinhole::CAMERA, None)
     );
     assert_eq!(
-        zero_lens(CameraKind::Fisheye, Some(0.0)),
-        zero_lens(CameraKind::Fisheye, None)
+        zero_lens(&fisheye::CAMERA, Some(0.0)),
+        zero_lens(&fisheye::CAMERA, None)
     );
 }
 
@@ -231,7 +227,7 @@ fn check_fisheye_box(fov_degrees: f32, fit: FisheyeFit, width: u32, height: u32)
         let options = RenderOptions {
             fisheye_fov: Some(fov_degrees),
             fisheye_fit: fit,
-            ..overrides(CameraKind::Fisheye, integrator, 4)
+            ..overrides(&fisheye::CAMERA, integrator, 4)
         };
         let image = render(six_colour_box(box_camera(), width, height), &options);
         checked_inside = 0;
@@ -303,7 +299,7 @@ fn fisheye_pixels_show_the_face_their_direction_points_at() {
 fn fisheye_360_sees_forward_at_the_centre_and_backward_at_the_rim() {
     let options = RenderOptions {
         fisheye_fov: Some(360.0),
-        ..overrides(CameraKind::Fisheye, IntegratorKind::RayCaster, 4)
+        ..overrides(&fisheye::CAMERA, IntegratorKind::RayCaster, 4)
     };
     let image = render(six_colour_box(box_camera(), 64, 64), &options);
     let forward = face_colour(Vec3::NEG_X);
@@ -337,7 +333,7 @@ fn fisheye_image_up_is_camera_up_and_right_is_camera_right() {
     for (width, height) in [(64, 64), (96, 64)] {
         let options = RenderOptions {
             fisheye_fov: Some(180.0),
-            ..overrides(CameraKind::Fisheye, IntegratorKind::PathTracer, 4)
+            ..overrides(&fisheye::CAMERA, IntegratorKind::PathTracer, 4)
         };
         let image = render(six_colour_box(box_camera(), width, height), &options);
         let (cx, cy) = (width / 2, height / 2);
@@ -376,7 +372,7 @@ fn equirectangular_pixels_show_the_face_their_direction_points_at() {
     let footprint_angle = Vec2::new(PI / width as f32, PI / (2.0 * height as f32)).length();
     let mut checked = 0;
     for integrator in INTEGRATORS {
-        let options = overrides(CameraKind::Equirectangular, integrator, 4);
+        let options = overrides(&equirectangular::CAMERA, integrator, 4);
         let image = render(six_colour_box(box_camera(), width, height), &options);
         checked = 0;
         for y in 0..height {
@@ -435,7 +431,7 @@ fn orthographic_square_covers_the_same_pixels_at_any_distance() {
     for (window, columns, rows) in windows {
         for distance in [0.5, 3.0, 40.0] {
             let mut camera = look_at(Vec3::ZERO, Vec3::Y, 90.0);
-            camera.projection = Projection::Orthographic;
+            camera.kind = &orthographic::CAMERA;
             camera.screen_window = Some(window);
             let mut scene = empty_scene(camera, size, size);
             let black = matte(&mut scene, Vec3::ZERO);
@@ -515,7 +511,7 @@ fn depth_of_field_blurs_an_edge_by_the_circle_of_confusion() {
         let options = RenderOptions {
             lens_radius: Some(lens_radius),
             focal_distance: Some(focal_distance),
-            ..overrides(CameraKind::ThinLens, IntegratorKind::RayCaster, 64)
+            ..overrides(&thin_lens::CAMERA, IntegratorKind::RayCaster, 64)
         };
         let image = render(scene.clone(), &options);
         let profile: Vec<f32> = (0..width)

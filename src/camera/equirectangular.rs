@@ -7,14 +7,24 @@ use std::f32::consts::PI;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use super::{CameraStage, generate_camera_rays, register_for};
+use super::{CameraStage, CameraType, generate_camera_rays, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Equirectangular;
 
-pub fn register(pass: &mut Schedule, world: &mut World) {
+/// LuxRender calls it `environment`.
+pub static CAMERA: CameraType = CameraType {
+    names: &["equirectangular", "environment"],
+    fov: None,
+    build: |_, entity, _| {
+        entity.insert(Equirectangular);
+    },
+    register,
+};
+
+fn register(pass: &mut Schedule, world: &mut World) {
     register_for::<Equirectangular, _>(
         pass,
         world,

@@ -7,7 +7,7 @@ use std::f32::consts::PI;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
-use super::{CameraStage, generate_camera_rays, register_for};
+use super::{CameraStage, CameraType, FovRange, generate_camera_rays, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -28,7 +28,25 @@ pub enum FisheyeFit {
     Circle,
 }
 
-pub fn register(pass: &mut Schedule, world: &mut World) {
+/// The aperture is `--fisheye-fov`, else the scene's if its camera is a fisheye, else 180
+/// degrees; the fit is `--fisheye-fit`.
+pub static CAMERA: CameraType = CameraType {
+    names: &["fisheye"],
+    fov: Some(FovRange {
+        default: 180.0,
+        max: 360.0,
+    }),
+    build: |setup, entity, _| {
+        let scene_fov = setup.scene_names_it.then_some(setup.scene.fov_degrees);
+        entity.insert(Fisheye {
+            fov_degrees: setup.options.fisheye_fov.or(scene_fov).unwrap_or(180.0),
+            fit: setup.options.fisheye_fit,
+        });
+    },
+    register,
+};
+
+fn register(pass: &mut Schedule, world: &mut World) {
     register_for::<Fisheye, _>(pass, world, CameraStage::Generate, generate_fisheye_rays);
 }
 

@@ -1,17 +1,15 @@
-//! Cameras as components. Each camera file holds its component and the system that turns the
-//! batch's film positions into camera-space rays; the system runs only when its component exists.
-//! The stages after ray generation (the lens, the move to world space) do not know which camera
-//! made the rays, and nothing after them does either.
+//! Cameras as components. Each camera file declares a [`CameraType`]: its names, how it is built
+//! from the scene's camera and the command line, and the system that turns the batch's film
+//! positions into camera-space rays (run only when its component exists). [`CAMERAS`] lists them
+//! all, one line each; the loaders, `--camera` and `scene::build` read it. The stages after ray
+//! generation (the lens, the move to world space) do not know which camera made the rays, and
+//! nothing after them does either.
 //!
 //! Ray generation writes directions whose length places the focus surface: a point at distance
 //! `f` in focus lies at `origin + f * direction`. Planar projections write `z = 1` (a focal plane),
 //! spherical ones unit vectors (a focal sphere). The thin lens relies only on that.
 
-pub mod equirectangular;
-pub mod fisheye;
-pub mod orthographic;
-pub mod pinhole;
-pub mod thin_lens;
+use std::fmt;
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -20,6 +18,89 @@ use glam::{Affine3A, Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::integrator::batch::PathBatch;
+use crate::scene::build::RenderOptions;
+use crate::scene::desc::CameraDesc;
+
+/// Declares each camera's module and lists its `CAMERA` in [`CAMERAS`].
+macro_rules! cameras {
+    ($($camera:ident),* $(,)?) => {
+        $(pub mod $camera;)*
+
+        /// Every camera, in the order `--camera` lists them.
+        pub static CAMERAS: &[&CameraType] = &[$(&$camera::CAMERA),*];
+    };
+}
+
+// The registry: one line per camera.
+cameras! {
+    pinhole,
+    thin_lens,
+    fisheye,
+    orthographic,
+    equirectangular,
+}
+
+/// One kind of camera, as the registry knows it.
+pub struct CameraType {
+    /// The first is foton's name (the `--camera` value); the others are names scene formats
+    /// give it. Matched in any case.
+    pub names: &'static [&'static str],
+    /// The field of view a scene may give it, if it takes one.
+    pub fov: Option<FovRange>,
+    /// Adds the camera's components to the camera entity.
+    pub build: fn(&CameraSetup, &mut EntityWorldMut, &mut Vec<String>),
+    /// Adds its systems to the pass schedule, each only when its component exists.
+    pub register: fn(&mut Schedule, &mut World),
+}
+
+impl CameraType {
+    pub fn name(&self) -> &'static str {
+        self.names[0]
+    }
+}
+
+impl PartialEq for CameraType {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl fmt::Debug for CameraType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A field of view in degrees: what it is when the scene gives none, and the largest allowed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FovRange {
+    pub default: f32,
+    pub max: f32,
+}
+
+/// What a camera is built from.
+pub struct CameraSetup<'a> {
+    /// The scene's camera.
+    pub scene: &'a CameraDesc,
+    /// Whether the scene's camera is of this type (the command line may choose another).
+    pub scene_names_it: bool,
+    pub options: &'a RenderOptions,
+    /// [xmin, xmax, ymin, ymax], fitted to the image's aspect ratio.
+    pub screen_window: [f32; 4],
+}
+
+/// The camera type called `name` (any of its names, in any case).
+pub fn find(name: &str) -> Option<&'static CameraType> {
+    CAMERAS
+        .iter()
+        .copied()
+        .find(|camera| camera.names.iter().any(|n| n.eq_ignore_ascii_case(name)))
+}
+
+/// foton's name of every camera, in registry order.
+pub fn names() -> impl Iterator<Item = &'static str> {
+    CAMERAS.iter().map(|camera| camera.name())
+}
 
 /// Camera space to world space (x right, y up, z forward in camera space).
 #[derive(Component, Clone, Copy, Debug)]
@@ -35,8 +116,8 @@ pub enum CameraStage {
     ToWorld,
 }
 
-/// Registers the camera systems in the pass schedule: one line per camera. Each camera adds its
-/// system only when the world has its component, so the schedule holds only what the scene uses.
+/// Registers the camera systems in the pass schedule. Each camera adds its system only when the
+/// world has its component, so the schedule holds only what the scene uses.
 pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
     pass.configure_sets(
         (
@@ -47,11 +128,9 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
             .chain(),
     );
     pass.add_systems(move_camera_rays_to_world.in_set(CameraStage::ToWorld));
-    pinhole::register(pass, world);
-    thin_lens::register(pass, world);
-    fisheye::register(pass, world);
-    orthographic::register(pass, world);
-    equirectangular::register(pass, world);
+    for camera in CAMERAS {
+        (camera.register)(pass, world);
+    }
 }
 
 /// Adds `system` to `stage` when the world has a camera component `C`, to run while it does.

@@ -4,7 +4,7 @@
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use super::{CameraStage, generate_camera_rays, raster_to_screen, register_for};
+use super::{CameraStage, CameraType, generate_camera_rays, raster_to_screen, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -14,7 +14,18 @@ pub struct Orthographic {
     pub screen_window: [f32; 4],
 }
 
-pub fn register(pass: &mut Schedule, world: &mut World) {
+pub static CAMERA: CameraType = CameraType {
+    names: &["orthographic"],
+    fov: None,
+    build: |setup, entity, _| {
+        entity.insert(Orthographic {
+            screen_window: setup.screen_window,
+        });
+    },
+    register,
+};
+
+fn register(pass: &mut Schedule, world: &mut World) {
     register_for::<Orthographic, _>(
         pass,
         world,

@@ -3,7 +3,10 @@
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use super::{CameraStage, generate_camera_rays, raster_to_screen, register_for};
+use super::{
+    CameraSetup, CameraStage, CameraType, FovRange, generate_camera_rays, raster_to_screen,
+    register_for,
+};
 use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
@@ -15,7 +18,32 @@ pub struct Pinhole {
     pub screen_window: [f32; 4],
 }
 
-pub fn register(pass: &mut Schedule, world: &mut World) {
+/// The perspective field of view: the shorter image axis spans `fov`, up to 179 degrees.
+pub const PERSPECTIVE_FOV: FovRange = FovRange {
+    default: 90.0,
+    max: 179.0,
+};
+
+pub static CAMERA: CameraType = CameraType {
+    names: &["pinhole", "perspective"],
+    fov: Some(PERSPECTIVE_FOV),
+    build: |setup, entity, _| {
+        entity.insert(Pinhole::new(setup));
+    },
+    register,
+};
+
+impl Pinhole {
+    /// With the scene's field of view, whichever camera the scene has.
+    pub fn new(setup: &CameraSetup) -> Self {
+        Self {
+            fov_degrees: setup.scene.fov_degrees,
+            screen_window: setup.screen_window,
+        }
+    }
+}
+
+fn register(pass: &mut Schedule, world: &mut World) {
     register_for::<Pinhole, _>(pass, world, CameraStage::Generate, generate_pinhole_rays);
 }
 

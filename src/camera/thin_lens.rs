@@ -7,7 +7,8 @@
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
-use super::{CameraStage, register_for};
+use super::pinhole::{PERSPECTIVE_FOV, Pinhole};
+use super::{CameraSetup, CameraStage, CameraType, register_for};
 use crate::integrator::batch::PathBatch;
 use crate::integrator::start_pass::{CameraSampling, LENS_DIMENSION, PassIndex};
 use crate::sampling::warp::concentric_disk;
@@ -18,7 +19,52 @@ pub struct ThinLens {
     pub focal_distance: f32,
 }
 
-pub fn register(pass: &mut Schedule, world: &mut World) {
+/// The perspective camera through a thin lens of the scene's radius (or `--lens-radius`).
+pub static CAMERA: CameraType = CameraType {
+    names: &["thin-lens", "thinlens"],
+    fov: Some(PERSPECTIVE_FOV),
+    build: |setup, entity, notes| {
+        entity.insert(Pinhole::new(setup));
+        let lens = ThinLens::new(setup);
+        if lens.lens_radius > 0.0 {
+            entity.insert(lens);
+        } else {
+            notes.push("thin-lens camera with lens radius 0: rendered as a pinhole".into());
+        }
+    },
+    register,
+};
+
+impl ThinLens {
+    /// The command line's radius and focal distance, else the scene's.
+    fn new(setup: &CameraSetup) -> Self {
+        let options = setup.options;
+        Self {
+            lens_radius: options
+                .lens_radius
+                .unwrap_or(setup.scene.lens_radius)
+                .max(0.0),
+            focal_distance: options
+                .focal_distance
+                .unwrap_or(setup.scene.focal_distance)
+                .max(1e-4),
+        }
+    }
+
+    /// Puts the lens in front of any camera: when `--lens-radius` is given, or when the scene's
+    /// own camera is used and has a lens. Radius 0 is exactly no lens, so no stage then.
+    pub fn compose(setup: &CameraSetup, entity: &mut EntityWorldMut) {
+        let options = setup.options;
+        let wanted = options.lens_radius.is_some()
+            || (options.camera.is_none() && setup.scene.lens_radius > 0.0);
+        let lens = Self::new(setup);
+        if wanted && lens.lens_radius > 0.0 {
+            entity.insert(lens);
+        }
+    }
+}
+
+fn register(pass: &mut Schedule, world: &mut World) {
     register_for::<ThinLens, _>(pass, world, CameraStage::Lens, focus_through_thin_lens);
 }
 

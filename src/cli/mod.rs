@@ -1,17 +1,22 @@
-//! The command line: `foton render` and `foton bench`.
+//! The command line: `foton render`, `foton bench`, `foton compare`.
 
 mod bench;
+mod compare;
 mod render;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::camera::fisheye::FisheyeFit;
+use crate::camera::{self, CameraType};
+use crate::film::Reconstruction;
+use crate::light::LightSelection;
 use crate::sampling::SamplerKind;
-use crate::scene::build::{CameraKind, RenderOptions};
-use crate::settings::IntegratorKind;
+use crate::scene::build::RenderOptions;
+use crate::settings::{IntegratorKind, Techniques};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -30,12 +35,28 @@ enum Command {
     Render(RenderArgs),
     /// Measure wavefront throughput: render a scene several times, report the median.
     Bench(BenchArgs),
+    /// Error of image A against the reference B: RMSE, relMSE, MAPE, PSNR.
+    Compare(CompareArgs),
+}
+
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// The image to measure (.exr).
+    a: PathBuf,
+    /// The reference (.exr).
+    b: PathBuf,
+    /// Write a false-colour difference image (.png).
+    #[arg(long)]
+    diff: Option<PathBuf>,
+    /// Print the measures as JSON.
+    #[arg(long)]
+    json: bool,
 }
 
 /// The scene and how to render it; shared by `render` and `bench`.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// The scene file (.lxs).
+    /// The scene file; its extension picks the loader (.lxs).
     pub scene: PathBuf,
     /// Samples per pixel (the original's -s / -aa).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -60,8 +81,8 @@ pub struct SceneArgs {
     #[arg(long, value_enum, default_value_t = SamplerArg::MultiJittered)]
     pub sampler: SamplerArg,
     /// Use this camera instead of the scene's.
-    #[arg(long, value_enum)]
-    pub camera: Option<CameraArg>,
+    #[arg(long, value_parser = camera_parser())]
+    pub camera: Option<&'static CameraType>,
     /// Thin lens: distance to the plane in focus (the original's fd).
     #[arg(long, value_parser = parse_in(1e-4, f32::MAX))]
     pub focal_distance: Option<f32>,
@@ -73,6 +94,15 @@ pub struct SceneArgs {
     pub fisheye_fov: Option<f32>,
     #[arg(long, value_enum, default_value_t = FitArg::Ellipse)]
     pub fisheye_fit: FitArg,
+    /// How next-event estimation picks a light (default: the measured best).
+    #[arg(long, value_enum)]
+    pub light_selection: Option<LightSelectionArg>,
+    /// Bounces before Russian roulette may end a path.
+    #[arg(long)]
+    pub rr_depth: Option<u32>,
+    /// Pixel reconstruction: filter importance sampling or splatting (default: the measured best).
+    #[arg(long, value_enum)]
+    pub film: Option<FilmArg>,
     /// List what was built: entities, resources, BVH statistics, systems.
     #[arg(long, short)]
     pub verbose: bool,
@@ -116,12 +146,16 @@ pub enum SamplerArg {
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
-pub enum CameraArg {
-    Pinhole,
-    ThinLens,
-    Fisheye,
-    Orthographic,
-    Equirectangular,
+pub enum LightSelectionArg {
+    Power,
+    Uniform,
+    Mixed,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum FilmArg {
+    Fis,
+    Splat,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -131,6 +165,25 @@ pub enum FitArg {
 }
 
 impl SceneArgs {
+    /// The sampling techniques: the defaults, with what the command line chose on top.
+    pub fn techniques(&self) -> Techniques {
+        let defaults = Techniques::default();
+        Techniques {
+            light_selection: self
+                .light_selection
+                .map_or(defaults.light_selection, |l| match l {
+                    LightSelectionArg::Power => LightSelection::Power,
+                    LightSelectionArg::Uniform => LightSelection::Uniform,
+                    LightSelectionArg::Mixed => LightSelection::Mixed,
+                }),
+            rr_depth: self.rr_depth.unwrap_or(defaults.rr_depth),
+            film: self.film.map_or(defaults.film, |f| match f {
+                FilmArg::Fis => Reconstruction::FilterImportance,
+                FilmArg::Splat => Reconstruction::Splat,
+            }),
+        }
+    }
+
     pub fn render_options(&self) -> RenderOptions {
         RenderOptions {
             samples_per_pixel: self.spp,
@@ -147,13 +200,7 @@ impl SceneArgs {
                 IntegratorArg::Raycast => IntegratorKind::RayCaster,
             },
             time_limit: self.time_limit.map(std::time::Duration::from_secs_f32),
-            camera: self.camera.map(|c| match c {
-                CameraArg::Pinhole => CameraKind::Pinhole,
-                CameraArg::ThinLens => CameraKind::ThinLens,
-                CameraArg::Fisheye => CameraKind::Fisheye,
-                CameraArg::Orthographic => CameraKind::Orthographic,
-                CameraArg::Equirectangular => CameraKind::Equirectangular,
-            }),
+            camera: self.camera,
             focal_distance: self.focal_distance,
             lens_radius: self.lens_radius,
             fisheye_fov: self.fisheye_fov,
@@ -163,6 +210,13 @@ impl SceneArgs {
             },
         }
     }
+}
+
+/// `--camera`: one of the registry's cameras, by foton's name.
+fn camera_parser() -> impl TypedValueParser<Value = &'static CameraType> {
+    PossibleValuesParser::new(camera::names()).try_map(|name: String| {
+        camera::find(&name).ok_or_else(|| format!("no camera called {name:?}"))
+    })
 }
 
 /// A parser for a number in [min, max].
@@ -197,6 +251,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(&args.scene, args.output, args.exposure, args.repeat),
         Command::Bench(args) => bench::run(&args.scene, args.repeat),
+        Command::Compare(args) => compare::run(&args.a, &args.b, args.diff, args.json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

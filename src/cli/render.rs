@@ -32,7 +32,8 @@ pub fn prepare(args: &SceneArgs) -> Result<Prepared, String> {
         eprintln!("{warning}");
     }
     let film = desc.film.clone();
-    let (world, notes) = build_world(desc, &args.render_options());
+    let (mut world, notes) = build_world(desc, &args.render_options());
+    world.insert_resource(args.techniques());
     for note in notes {
         eprintln!("{}: note: {note}", args.scene.display());
     }

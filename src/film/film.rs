@@ -1,10 +1,32 @@
-//! Per-pixel accumulation of radiance samples.
+//! Per-pixel accumulation of radiance samples, by filter importance sampling or by splatting.
 
 use bevy_ecs::prelude::Resource;
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
-/// Radiance sums and sample counts per pixel, rows from the top.
+use super::PixelFilter;
+
+/// How a sample becomes pixel values.
+///
+/// - `FilterImportance`: the film position is drawn around the pixel centre with density
+///   proportional to the filter (`filter.rs`), and the sample counts for its own pixel only,
+///   with weight 1: pixel = mean of its samples.
+/// - `Splat`: the film position is uniform in the pixel, and the sample adds f(x - c_j) L and
+///   f(x - c_j) to the weighted sum and weight sum of every pixel j whose filter covers it
+///   (pbrt-v3 §7.8, Mitsuba 3's `ImageBlock`): pixel = sum f L / sum f. Each sample informs
+///   several pixels, so neighbouring pixels share noise and a wide filter smooths more per
+///   sample; the ratio is consistent, not unbiased.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Reconstruction {
+    #[default]
+    FilterImportance,
+    Splat,
+}
+
+/// Widest footprint a splat covers on one axis (a filter radius up to 7.5 pixels).
+const MAX_FOOTPRINT: usize = 16;
+
+/// Weighted radiance sums and weight sums per pixel, rows from the top.
 ///
 /// Sums are f64: after 1e5 samples of similar magnitude an f32 sum would keep only ~7 of its
 /// 24 bits for each new sample; f64 keeps ~36.
@@ -13,8 +35,12 @@ pub struct Film {
     width: u32,
     height: u32,
     sums: Vec<DVec3>,
+    weights: Vec<f64>,
+    /// Samples whose film position lies in the pixel.
     counts: Vec<u64>,
     rejected: u64,
+    /// The filter samples are splatted with; `None` for filter importance sampling.
+    splat: Option<PixelFilter>,
 }
 
 impl Film {
@@ -24,9 +50,17 @@ impl Film {
             width,
             height,
             sums: vec![DVec3::ZERO; n],
+            weights: vec![0.0; n],
             counts: vec![0; n],
             rejected: 0,
+            splat: None,
         }
+    }
+
+    /// From now on, samples are splatted with `filter` (their positions must then be uniform
+    /// in their pixels).
+    pub fn splat_with(&mut self, filter: PixelFilter) {
+        self.splat = Some(filter);
     }
 
     pub fn width(&self) -> u32 {
@@ -37,27 +71,54 @@ impl Film {
         self.height
     }
 
-    /// Adds one sample to `pixel` (y * width + x). A sample with a NaN, infinite or negative
-    /// component, or for a pixel outside the film, is dropped and counted.
-    pub fn add_sample(&mut self, pixel: u32, radiance: Vec3) {
-        let accepted = match (
-            self.sums.get_mut(pixel as usize),
-            self.counts.get_mut(pixel as usize),
-        ) {
-            (Some(sum), Some(count)) => accumulate(sum, count, radiance),
-            _ => false,
+    /// Adds one sample, taken at raster position `position`, to `pixel` (y * width + x), the
+    /// pixel that position lies in; splatted over the filter's footprint when splatting. A
+    /// sample with a NaN, infinite or negative component, or for a pixel outside the film, is
+    /// dropped and counted.
+    pub fn add_sample(&mut self, pixel: u32, position: Vec2, radiance: Vec3) {
+        let valid = radiance.is_finite() && radiance.cmpge(Vec3::ZERO).all();
+        let Some(count) = self.counts.get_mut(pixel as usize).filter(|_| valid) else {
+            self.rejected += 1;
+            return;
         };
-        self.rejected += u64::from(!accepted);
+        *count += 1;
+        let radiance = radiance.as_dvec3();
+        match &self.splat {
+            None => {
+                self.sums[pixel as usize] += radiance;
+                self.weights[pixel as usize] += 1.0;
+            }
+            Some(filter) => {
+                // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius.
+                let radius = filter.radius();
+                let (xs, wx) = footprint(position.x, radius.x, self.width, |d| {
+                    filter.evaluate(Vec2::new(d, 0.0))
+                });
+                let (ys, wy) = footprint(position.y, radius.y, self.height, |d| {
+                    filter.evaluate(Vec2::new(0.0, d))
+                });
+                // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
+                // constant f(0, 0) cancels in sum / weight.
+                for (j, &fy) in wy.iter().enumerate().take(ys.1) {
+                    let row = (ys.0 + j) * self.width as usize;
+                    for (i, &fx) in wx.iter().enumerate().take(xs.1) {
+                        let w = f64::from(fx * fy);
+                        self.sums[row + xs.0 + i] += radiance * w;
+                        self.weights[row + xs.0 + i] += w;
+                    }
+                }
+            }
+        }
     }
 
-    /// The mean radiance of every pixel; black where no sample arrived.
+    /// The estimate of every pixel (weighted sum over weight sum); black where nothing arrived.
     pub fn mean(&self) -> Vec<Vec3> {
         self.sums
             .par_iter()
-            .zip(self.counts.par_iter())
-            .map(|(&sum, &count)| {
-                if count > 0 {
-                    (sum / count as f64).as_vec3()
+            .zip(self.weights.par_iter())
+            .map(|(&sum, &weight)| {
+                if weight > 0.0 {
+                    (sum / weight).as_vec3()
                 } else {
                     Vec3::ZERO
                 }
@@ -76,14 +137,22 @@ impl Film {
     }
 }
 
-/// Adds `radiance` to a pixel if it is finite and non-negative; returns whether it was.
-fn accumulate(sum: &mut DVec3, count: &mut u64, radiance: Vec3) -> bool {
-    let valid = radiance.is_finite() && radiance.cmpge(Vec3::ZERO).all();
-    if valid {
-        *sum += radiance.as_dvec3();
-        *count += 1;
+/// The pixels along one axis whose centres lie within `radius` of `position`, as (first,
+/// count), and the filter's value at each.
+fn footprint(
+    position: f32,
+    radius: f32,
+    size: u32,
+    value: impl Fn(f32) -> f32,
+) -> ((usize, usize), [f32; MAX_FOOTPRINT]) {
+    let first = (position - 0.5 - radius).ceil().max(0.0) as usize;
+    let last = ((position - 0.5 + radius).floor() as i64).min(i64::from(size) - 1);
+    let count = (last + 1 - first as i64).clamp(0, MAX_FOOTPRINT as i64) as usize;
+    let mut weights = [0.0; MAX_FOOTPRINT];
+    for (i, w) in weights.iter_mut().enumerate().take(count) {
+        *w = value(position - ((first + i) as f32 + 0.5));
     }
-    valid
+    ((first, count), weights)
 }
 
 #[cfg(test)]
@@ -93,12 +162,12 @@ mod tests {
     #[test]
     fn film_means_and_rejects_invalid_samples() {
         let mut film = Film::new(3, 2);
-        film.add_sample(0, Vec3::new(1.0, 2.0, 3.0));
-        film.add_sample(0, Vec3::new(3.0, 2.0, 1.0));
-        film.add_sample(1, Vec3::new(f32::NAN, 0.0, 0.0));
-        film.add_sample(1, Vec3::new(0.0, f32::INFINITY, 0.0));
-        film.add_sample(1, Vec3::new(0.0, 0.0, -1.0));
-        film.add_sample(6, Vec3::ONE);
+        film.add_sample(0, Vec2::splat(0.5), Vec3::new(1.0, 2.0, 3.0));
+        film.add_sample(0, Vec2::splat(0.5), Vec3::new(3.0, 2.0, 1.0));
+        film.add_sample(1, Vec2::new(1.5, 0.5), Vec3::new(f32::NAN, 0.0, 0.0));
+        film.add_sample(1, Vec2::new(1.5, 0.5), Vec3::new(0.0, f32::INFINITY, 0.0));
+        film.add_sample(1, Vec2::new(1.5, 0.5), Vec3::new(0.0, 0.0, -1.0));
+        film.add_sample(6, Vec2::new(0.5, 2.5), Vec3::ONE);
         let mean = film.mean();
         assert_eq!(mean[0], Vec3::splat(2.0));
         assert_eq!(mean[1], Vec3::ZERO);
@@ -112,7 +181,11 @@ mod tests {
         // 1e5 samples alternating 1e3 and 1e-3 per pixel: exact mean 500.0005.
         let mut film = Film::new(1, 1);
         for i in 0..100_000 {
-            film.add_sample(0, Vec3::splat(if i % 2 == 0 { 1e3 } else { 1e-3 }));
+            film.add_sample(
+                0,
+                Vec2::splat(0.5),
+                Vec3::splat(if i % 2 == 0 { 1e3 } else { 1e-3 }),
+            );
         }
         let m = film.mean()[0].x;
         assert!((m - 500.0005).abs() < 1e-4, "{m}");

@@ -52,6 +52,15 @@ impl PixelFilter {
         }
     }
 
+    /// The one-pixel box: positions uniform in the pixel, for splatting.
+    pub fn pixel_box() -> Self {
+        Self {
+            kind: FilterKind::Box,
+            radius: Vec2::splat(0.5),
+            tables: None,
+        }
+    }
+
     pub fn radius(&self) -> Vec2 {
         self.radius
     }

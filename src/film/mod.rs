@@ -1,4 +1,4 @@
-//! The film: pixel filtering by importance sampling, accumulation of radiance, exposure, image
+//! The film: pixel filtering by importance sampling or splatting, accumulation of radiance, exposure, image
 //! output and image comparison.
 
 #[allow(clippy::module_inception)]
@@ -7,7 +7,7 @@ pub mod filter;
 pub mod output;
 pub mod tonemap;
 
-pub use film::Film;
+pub use film::{Film, Reconstruction};
 pub use filter::{FilterKind, PixelFilter};
 pub use output::{read_exr, read_png_linear, write_image};
 pub use tonemap::{ToneMap, exposure_scale, luminance};

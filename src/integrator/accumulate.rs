@@ -26,12 +26,12 @@ pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<Shadow
         });
 }
 
-/// Finished paths add their radiance to the film (one sample for their pixel, in slot order, so
-/// the sums do not depend on the thread count); the rest move to the front of the batch.
+/// Finished paths add their radiance to the film (one sample at their film position, in slot
+/// order, so the sums do not depend on the thread count); the rest move to the front of the batch.
 pub fn retire_finished_paths(mut batch: ResMut<PathBatch>, mut film: ResMut<Film>) {
     for i in 0..batch.len {
         if !batch.alive[i] {
-            film.add_sample(batch.pixel[i], batch.radiance[i]);
+            film.add_sample(batch.pixel[i], batch.film_position[i], batch.radiance[i]);
         }
     }
     batch.compact();

@@ -19,6 +19,10 @@ pub struct PathBatch {
     /// The ray the path follows next (camera space between ray generation and the lens stages).
     pub origin: Vec<Vec3>,
     pub direction: Vec<Vec3>,
+    /// The last scattering vertex, where the current ray's direction was sampled (a pass through
+    /// a null surface moves `origin`, not this): the point light sampling would have sampled
+    /// from, for the MIS weight of an emitter the ray hits. Set by the first scattering.
+    pub vertex: Vec<Vec3>,
     /// Product of f |cos| / pdf along the path.
     pub throughput: Vec<Vec3>,
     /// Radiance gathered so far.
@@ -44,6 +48,7 @@ impl PathBatch {
         resize(&mut self.film_position, count, Vec2::ZERO);
         resize(&mut self.origin, count, Vec3::ZERO);
         resize(&mut self.direction, count, Vec3::Z);
+        resize(&mut self.vertex, count, Vec3::ZERO);
         resize(&mut self.throughput, count, Vec3::ONE);
         resize(&mut self.radiance, count, Vec3::ZERO);
         resize(&mut self.depth, count, 0);
@@ -66,6 +71,7 @@ impl PathBatch {
                 self.film_position[kept] = self.film_position[i];
                 self.origin[kept] = self.origin[i];
                 self.direction[kept] = self.direction[i];
+                self.vertex[kept] = self.vertex[i];
                 self.throughput[kept] = self.throughput[i];
                 self.radiance[kept] = self.radiance[i];
                 self.depth[kept] = self.depth[i];
@@ -96,6 +102,10 @@ pub struct ShadowBatch {
     pub rays_per_path: usize,
     pub origin: Vec<Vec3>,
     pub direction: Vec<Vec3>,
+    /// The last scattering vertex, where the current ray's direction was sampled (a pass through
+    /// a null surface moves `origin`, not this): the point light sampling would have sampled
+    /// from, for the MIS weight of an emitter the ray hits. Set by the first scattering.
+    pub vertex: Vec<Vec3>,
     /// The ray is tested on (t_min, t_max); 0 marks an empty slot.
     pub t_max: Vec<f32>,
     /// Radiance the path gains when the ray is unoccluded.

@@ -20,16 +20,17 @@ use std::time::{Duration, Instant};
 use bevy_ecs::prelude::*;
 
 use crate::camera::{CameraStage, register_cameras};
+use crate::film::{Film, PixelFilter, Reconstruction};
 use crate::light::{LightTable, build_light_table};
 use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
-use crate::settings::{IntegratorKind, RenderSettings};
+use crate::settings::{IntegratorKind, RenderSettings, Techniques};
 use crate::shape::geometry::{SceneGeometry, build_scene_geometry};
 use accumulate::{gather_unoccluded_light, retire_finished_paths};
 use batch::{HitBatch, PathBatch, ShadowBatch};
 use shade_path::shade_path_vertices;
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
-use start_pass::{PassIndex, start_pass};
+use start_pass::{CameraSampling, PassIndex, start_pass};
 use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// The world and the schedules that render it.
@@ -60,6 +61,15 @@ impl RenderStats {
 impl Renderer {
     /// Runs the startup systems on a populated world and builds the render schedules.
     pub fn new(mut world: World) -> Self {
+        world.init_resource::<Techniques>();
+        if world.resource::<Techniques>().film == Reconstruction::Splat {
+            // Splatting: positions uniform in the pixel, the filter's weights on the film.
+            let filter = std::mem::replace(
+                &mut world.resource_mut::<CameraSampling>().filter,
+                PixelFilter::pixel_box(),
+            );
+            world.resource_mut::<Film>().splat_with(filter);
+        }
         let mut startup = Schedule::default();
         startup.add_systems((build_scene_geometry, build_light_table).chain());
         startup.run(&mut world);

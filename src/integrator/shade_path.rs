@@ -12,9 +12,6 @@ use crate::light::LightTable;
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
 
-/// Bounces after which Russian roulette may end a path.
-const ROULETTE_DEPTH: u32 = 2;
-
 pub fn shade_path_vertices(
     inputs: ShadingInputs,
     mut batch: ResMut<PathBatch>,
@@ -55,8 +52,10 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         && surface.geometric_normal.dot(wo) > 0.0
         && let Some((index, area)) = lights.area_light(surface.emitter)
     {
+        // Light sampling would have sampled from the last scattering vertex, which is not the
+        // ray's origin after a pass through a null surface.
         let weight = emission_weight(lights, *path.scatter_pdf, index, || {
-            area.pdf(*path.origin, surface.position, surface.geometric_normal)
+            area.pdf(*path.vertex, surface.position, surface.geometric_normal)
         });
         path.add_radiance(*path.throughput * area.radiance() * weight);
     }
@@ -111,7 +110,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
 
     // The next ray, by BSDF sampling.
     let (u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
-    match bsdf.sample(wo_local, u_direction, u_lobe) {
+    let delta = match bsdf.sample(wo_local, u_direction, u_lobe) {
         Some(sample) if sample.pdf > 0.0 => {
             let wi = frame.to_world(sample.wi);
             let reflects = sample.wi.z * wo_local.z > 0.0;
@@ -122,16 +121,22 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
             }
             *path.scatter_pdf = if sample.delta { 0.0 } else { sample.pdf };
             path.scatter(&surface, wi, sample.f * sample.wi.z.abs() / sample.pdf);
+            sample.delta
         }
         _ => {
             *path.alive = false;
             return shadow;
         }
-    }
+    };
 
-    // Russian roulette (pbrt-v4 §13.4.3): end low-throughput paths, reweight the survivors.
+    // Russian roulette (pbrt-v4 §13.4.3): a path whose throughput (the product of the BSDF
+    // weights f cos / pdf, each the surface's albedo in the sampled direction) fell to t < 1
+    // survives with probability min(t, 0.95) and is reweighted by its inverse: unbiased, and
+    // a dim path's expected cost falls with its contribution (Mitsuba 3's rule). Not after a
+    // delta bounce: the throughput inside a dielectric carries 1 / eta^2, which leaving undoes,
+    // so a specular chain is judged where it ends.
     let max_throughput = path.throughput.max_element();
-    if *path.depth > ROULETTE_DEPTH && max_throughput < 1.0 {
+    if !delta && *path.depth > scene.rr_depth && max_throughput < 1.0 {
         let q = (1.0 - max_throughput).max(0.05);
         if path.rng.next_f32() < q {
             *path.alive = false;

@@ -13,7 +13,7 @@ use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
 use crate::math::offset_ray_origin;
 use crate::sampling::PathRng;
-use crate::settings::RenderSettings;
+use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
 
@@ -28,6 +28,7 @@ pub struct ShadingInputs<'w> {
     textures: Option<Res<'w, TextureTable>>,
     lights: Res<'w, LightTable>,
     settings: Res<'w, RenderSettings>,
+    techniques: Res<'w, Techniques>,
     hits: Res<'w, HitBatch>,
 }
 
@@ -39,6 +40,7 @@ impl ShadingInputs<'_> {
             textures: self.textures.as_deref(),
             lights: &self.lights,
             max_depth: self.settings.max_depth,
+            rr_depth: self.techniques.rr_depth,
         }
     }
 
@@ -54,12 +56,15 @@ pub struct Scene<'a> {
     pub textures: Option<&'a TextureTable>,
     pub lights: &'a LightTable,
     pub max_depth: u32,
+    /// Bounces before Russian roulette may end a path.
+    pub rr_depth: u32,
 }
 
 /// One path's slots in the batch.
 pub struct PathSlots<'a> {
     pub origin: &'a mut Vec3,
     pub direction: &'a mut Vec3,
+    pub vertex: &'a mut Vec3,
     pub throughput: &'a mut Vec3,
     pub radiance: &'a mut Vec3,
     pub depth: &'a mut u32,
@@ -78,7 +83,8 @@ impl PathSlots<'_> {
         }
     }
 
-    /// Continues the ray straight through a null-material surface.
+    /// Continues the ray straight through a null-material surface; the last scattering vertex
+    /// stays where it was.
     pub fn pass_through(&mut self, surface: &SurfacePoint) {
         *self.origin =
             offset_ray_origin(surface.position, surface.geometric_normal, *self.direction);
@@ -93,6 +99,7 @@ impl PathSlots<'_> {
         *self.throughput *= weight;
         *self.origin = offset_ray_origin(surface.position, surface.geometric_normal, direction);
         *self.direction = direction;
+        *self.vertex = surface.position;
         *self.depth += 1;
         if !self.throughput.is_finite() || *self.throughput == Vec3::ZERO {
             *self.alive = false;
@@ -133,6 +140,7 @@ pub fn shade_live_paths(
         &hits[..n],
         &mut batch.origin[..n],
         &mut batch.direction[..n],
+        &mut batch.vertex[..n],
         &mut batch.throughput[..n],
         &mut batch.radiance[..n],
         &mut batch.depth[..n],
@@ -153,7 +161,19 @@ pub fn shade_live_paths(
         .with_min_len(128)
         .for_each(
             |(
-                (hit, origin, direction, throughput, radiance, depth, through, rng, pdf, alive),
+                (
+                    hit,
+                    origin,
+                    direction,
+                    vertex,
+                    throughput,
+                    radiance,
+                    depth,
+                    through,
+                    rng,
+                    pdf,
+                    alive,
+                ),
                 (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
             )| {
                 if !*alive {
@@ -162,6 +182,7 @@ pub fn shade_live_paths(
                 let path = PathSlots {
                     origin,
                     direction,
+                    vertex,
                     throughput,
                     radiance,
                     depth,

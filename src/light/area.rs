@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 
 use super::LightSample;
 use crate::film::luminance;
-use crate::sampling::Distribution1D;
+use crate::sampling::AliasTable;
 use crate::sampling::warp::{uniform_cone, uniform_cone_pdf, uniform_sphere, uniform_triangle};
 use crate::shape::geometry::{EmissiveShape, SceneGeometry};
 
@@ -21,7 +21,7 @@ pub struct AreaLight {
 enum EmitterShape {
     Triangles {
         triangles: Vec<[Vec3; 3]>,
-        by_area: Distribution1D,
+        by_area: AliasTable,
         area: f32,
     },
     Sphere {
@@ -47,7 +47,7 @@ impl AreaLight {
                 return None;
             }
             EmitterShape::Triangles {
-                by_area: Distribution1D::new(&areas),
+                by_area: AliasTable::new(&areas),
                 triangles,
                 area,
             }

@@ -110,7 +110,10 @@ impl Environment {
         }
     }
 
-    /// pbrt-v4's estimate for the light sampler: 4 pi^2 r^2 times the mean radiance.
+    /// The power that reaches the scene: the flux through the bounding sphere's cross-section
+    /// (a disk of radius r lit from one side by mean radiance L receives pi L * pi r^2). pbrt-v4
+    /// counts all the flux through the sphere (4 pi^2 r^2 L), four times more, most of which
+    /// passes the scene by; the cross-section is what a distant light's power counts too.
     pub fn power(&self, scene_radius: f32) -> f32 {
         let mean = match &self.map {
             None => luminance(self.radiance),
@@ -120,7 +123,7 @@ impl Environment {
                 total / texels.len().max(1) as f32 * luminance(self.radiance)
             }
         };
-        4.0 * PI * PI * scene_radius * scene_radius * mean
+        PI * PI * scene_radius * scene_radius * mean
     }
 }
 

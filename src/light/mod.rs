@@ -11,7 +11,7 @@ pub mod spot;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
-use crate::sampling::Distribution1D;
+use crate::sampling::AliasTable;
 use crate::shape::geometry::SceneGeometry;
 use area::AreaLight;
 use distant::DistantLight;
@@ -54,17 +54,50 @@ impl Light {
     }
 }
 
+/// How next-event estimation picks the one light it samples at a vertex.
+///
+/// In proportion to power, a bright sky starves a small lamp that lights most of what the
+/// camera sees (its power counts light that passes the scene by); uniformly, a dim light gets
+/// as many samples as the sun. The mix, half of each (a defensive mixture, Hesterberg 1995),
+/// keeps every light's probability at least 1 / 2n and at least half its power share, so
+/// neither case can be worse than twice the better strategy's variance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightSelection {
+    Power,
+    Uniform,
+    #[default]
+    Mixed,
+}
+
+impl LightSelection {
+    /// Selection weights from the lights' powers.
+    pub fn weights(self, power: &[f32]) -> Vec<f32> {
+        let n = power.len() as f32;
+        let clean = |p: f32| if p.is_finite() && p > 0.0 { p } else { 0.0 };
+        let total: f32 = power.iter().map(|&p| clean(p)).sum();
+        match self {
+            Self::Uniform => vec![1.0; power.len()],
+            Self::Power => power.iter().map(|&p| clean(p)).collect(),
+            Self::Mixed if total > 0.0 => power
+                .iter()
+                .map(|&p| 0.5 * clean(p) / total + 0.5 / n)
+                .collect(),
+            Self::Mixed => vec![1.0; power.len()],
+        }
+    }
+}
+
 #[derive(Resource, Clone, Debug)]
 pub struct LightTable {
     pub lights: Vec<Light>,
-    selection: Distribution1D,
+    selection: AliasTable,
     /// Light index of each of the geometry's emissive shapes.
     emitter_light: Vec<u32>,
     environment: Option<u32>,
 }
 
 impl LightTable {
-    /// Picks a light in proportion to its power: (index, probability).
+    /// Picks a light by the table's selection weights, in O(1): (index, probability).
     pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
         if self.lights.is_empty() {
             return None;
@@ -122,6 +155,7 @@ impl LightTable {
 
 /// Startup system: the light table from the light entities and the emissive shapes.
 pub fn build_light_table(
+    selection: Res<crate::settings::Techniques>,
     points: Query<&PointLight>,
     spots: Query<&SpotLight>,
     distants: Query<&DistantLight>,
@@ -163,7 +197,7 @@ pub fn build_light_table(
         }
     }
     commands.insert_resource(LightTable {
-        selection: Distribution1D::new(&power),
+        selection: AliasTable::new(&selection.light_selection.weights(&power)),
         lights,
         emitter_light,
         environment,

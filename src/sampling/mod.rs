@@ -1,12 +1,14 @@
 //! Sample generation: per-path random streams, per-pixel sample patterns, warps from the unit
 //! square to the domains light transport integrates over, and tabulated distributions.
 
+pub mod alias;
 pub mod distribution;
 mod hash;
 pub mod pixel_sampler;
 pub mod rng;
 pub mod warp;
 
+pub use alias::AliasTable;
 pub use distribution::{Distribution1D, Distribution2D};
 pub use pixel_sampler::{PixelSampler, SamplerKind};
 pub use rng::PathRng;

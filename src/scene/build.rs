@@ -5,15 +5,11 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{
-    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, Projection, SceneDesc,
-    ToneMap,
+    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ToneMap,
 };
-use crate::camera::equirectangular::Equirectangular;
-use crate::camera::fisheye::{Fisheye, FisheyeFit};
-use crate::camera::orthographic::Orthographic;
-use crate::camera::pinhole::Pinhole;
+use crate::camera::fisheye::FisheyeFit;
 use crate::camera::thin_lens::ThinLens;
-use crate::camera::{CameraPose, default_screen_window};
+use crate::camera::{CameraPose, CameraSetup, CameraType, default_screen_window};
 use crate::film::{self, Film, PixelFilter};
 use crate::integrator::start_pass::CameraSampling;
 use crate::light::distant::DistantLight;
@@ -31,16 +27,6 @@ use crate::shape::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
 pub const DEFAULT_SAMPLES_PER_PIXEL: u32 = 16;
 pub const DEFAULT_MAX_DEPTH: u32 = 8;
 
-/// The camera the command line asks for instead of the scene's.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CameraKind {
-    Pinhole,
-    ThinLens,
-    Fisheye,
-    Orthographic,
-    Equirectangular,
-}
-
 /// What the command line sets on top of the scene file.
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
@@ -51,7 +37,8 @@ pub struct RenderOptions {
     pub sampler: SamplerKind,
     pub integrator: IntegratorKind,
     pub time_limit: Option<std::time::Duration>,
-    pub camera: Option<CameraKind>,
+    /// The camera to use instead of the scene's.
+    pub camera: Option<&'static CameraType>,
     pub focal_distance: Option<f32>,
     pub lens_radius: Option<f32>,
     pub fisheye_fov: Option<f32>,
@@ -271,63 +258,16 @@ fn spawn_camera(
         window[2] = centre - half;
         window[3] = centre + half;
     }
-    let scene_fov = match camera.projection {
-        Projection::Perspective { fov_degrees } | Projection::Fisheye { fov_degrees } => {
-            fov_degrees
-        }
-        _ => 90.0,
-    };
-    let kind = options.camera.unwrap_or(match camera.projection {
-        Projection::Fisheye { .. } => CameraKind::Fisheye,
-        Projection::Orthographic => CameraKind::Orthographic,
-        Projection::Equirectangular => CameraKind::Equirectangular,
-        _ if camera.lens_radius > 0.0 => CameraKind::ThinLens,
-        _ => CameraKind::Pinhole,
-    });
-    let lens = ThinLens {
-        lens_radius: options.lens_radius.unwrap_or(camera.lens_radius).max(0.0),
-        focal_distance: options
-            .focal_distance
-            .unwrap_or(camera.focal_distance)
-            .max(1e-4),
+    let kind = options.camera.unwrap_or(camera.kind);
+    let setup = CameraSetup {
+        scene: camera,
+        scene_names_it: *kind == *camera.kind,
+        options,
+        screen_window: window,
     };
     let mut entity = world.spawn(pose);
-    match kind {
-        CameraKind::Pinhole | CameraKind::ThinLens => {
-            let fov_degrees = match camera.projection {
-                Projection::Perspective { fov_degrees } => fov_degrees,
-                _ => scene_fov,
-            };
-            entity.insert(Pinhole {
-                fov_degrees,
-                screen_window: window,
-            });
-        }
-        CameraKind::Orthographic => {
-            entity.insert(Orthographic {
-                screen_window: window,
-            });
-        }
-        CameraKind::Equirectangular => {
-            entity.insert(Equirectangular);
-        }
-        CameraKind::Fisheye => {
-            entity.insert(Fisheye {
-                fov_degrees: options.fisheye_fov.unwrap_or(match camera.projection {
-                    Projection::Fisheye { fov_degrees } => fov_degrees,
-                    _ => 180.0,
-                }),
-                fit: options.fisheye_fit,
-            });
-        }
-    }
-    // The lens composes with any projection; radius 0 is exactly the pinhole, so no stage.
-    let wants_lens = kind == CameraKind::ThinLens || options.lens_radius.is_some();
-    if wants_lens && lens.lens_radius > 0.0 {
-        entity.insert(lens);
-    } else if kind == CameraKind::ThinLens {
-        notes.push("thin-lens camera with lens radius 0: rendered as a pinhole".into());
-    }
+    (kind.build)(&setup, &mut entity, notes);
+    ThinLens::compose(&setup, &mut entity);
 }
 
 /// The material table's entry for a described material.

@@ -14,6 +14,8 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
+use crate::camera::{CameraType, pinhole};
+
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
 /// a 1-based column. Displayed as `file:line` or `file:line:column`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -98,7 +100,8 @@ impl SceneDesc {
     pub fn empty(camera_location: Location) -> Self {
         Self {
             camera: CameraDesc {
-                projection: Projection::Perspective { fov_degrees: 90.0 },
+                kind: &pinhole::CAMERA,
+                fov_degrees: DEFAULT_FOV_DEGREES,
                 camera_to_world: Mat4::IDENTITY,
                 screen_window: None,
                 lens_radius: 0.0,
@@ -127,29 +130,24 @@ impl SceneDesc {
     }
 }
 
+/// The field of view when a scene gives none (and of cameras that take none, should the
+/// command line switch to one that does).
+pub const DEFAULT_FOV_DEGREES: f32 = 90.0;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraDesc {
-    pub projection: Projection,
+    /// The projection, from the camera registry.
+    pub kind: &'static CameraType,
+    /// The field of view in degrees, for the kinds that take one (see [`CameraType::fov`]).
+    pub fov_degrees: f32,
     /// Camera space to world: camera space has x right, y up, z forward (the viewing direction).
     pub camera_to_world: Mat4,
-    /// `screenwindow` [xmin xmax ymin ymax]; `None`: the default, the shorter image axis spans [-1, 1].
+    /// The screen window [xmin xmax ymin ymax]; `None`: the shorter image axis spans [-1, 1].
     pub screen_window: Option<[f32; 4]>,
-    /// Thin lens: radius 0 is a pinhole.
+    /// A thin lens in front of the projection: radius 0 is none.
     pub lens_radius: f32,
     pub focal_distance: f32,
     pub location: Location,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Projection {
-    /// `fov` in degrees, spanning the shorter image axis.
-    Perspective { fov_degrees: f32 },
-    /// foton's extension `Camera "fisheye" "float fov" [180]`: equidistant, 0 to 360 degrees.
-    Fisheye { fov_degrees: f32 },
-    /// `Camera "environment"`: a 360 x 180 degree latitude-longitude panorama.
-    Equirectangular,
-    /// `Camera "orthographic"`: the screen window in camera-space units.
-    Orthographic,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -18,7 +18,8 @@ pub fn look_at(eye: Vec3, target: Vec3, fov_degrees: f32) -> CameraDesc {
     let right = dir.cross(Vec3::Z).normalize();
     let up = right.cross(dir);
     CameraDesc {
-        projection: Projection::Perspective { fov_degrees },
+        kind: &foton::camera::pinhole::CAMERA,
+        fov_degrees,
         camera_to_world: Mat4::from_cols(
             right.extend(0.0),
             up.extend(0.0),

@@ -4,7 +4,10 @@ use glam::Vec2;
 
 use super::params::ParamList;
 use super::parser::Parser;
-use crate::scene::desc::{CameraDesc, FilterDesc, FilterKind, Projection, SceneError, ToneMap};
+use crate::camera::{self, pinhole};
+use crate::scene::desc::{
+    CameraDesc, DEFAULT_FOV_DEGREES, FilterDesc, FilterKind, SceneError, ToneMap,
+};
 
 impl Parser {
     /// Camera space is the CTM's space: camera_to_world = CTM^-1; the world starts afresh.
@@ -14,38 +17,29 @@ impl Parser {
         line: usize,
         params: &mut ParamList,
     ) -> Result<(), SceneError> {
-        let fov = params.float("fov")?;
-        let check_fov = |default: f32, max: f32| {
-            let fov = fov.unwrap_or(default);
-            if fov > 0.0 && fov <= max {
-                Ok(fov)
-            } else {
-                Err(self.error(
-                    line,
-                    format!("Camera \"{kind}\": fov {fov} is not in (0, {max}]"),
-                ))
-            }
-        };
-        let known = ["perspective", "fisheye", "environment", "orthographic"];
-        let projection = match kind {
-            "perspective" => Projection::Perspective {
-                fov_degrees: check_fov(90.0, 179.0)?,
-            },
-            "fisheye" => Projection::Fisheye {
-                fov_degrees: check_fov(180.0, 360.0)?,
-            },
-            "environment" => Projection::Equirectangular,
-            "orthographic" => Projection::Orthographic,
-            _ => Projection::Perspective {
-                fov_degrees: check_fov(90.0, 179.0)?,
-            },
-        };
-        if !known.contains(&kind) {
+        // LuxRender's cameras (perspective, orthographic, environment) and foton's, by any of
+        // their registered names.
+        let camera = camera::find(kind).unwrap_or_else(|| {
             self.warn(
                 line,
                 format!("Camera \"{kind}\" unknown: using \"perspective\""),
             );
-        }
+            &pinhole::CAMERA
+        });
+        let fov = params.float("fov")?;
+        let fov_degrees = match camera.fov {
+            Some(range) => {
+                let fov = fov.unwrap_or(range.default);
+                if !(fov > 0.0 && fov <= range.max) {
+                    return Err(self.error(
+                        line,
+                        format!("Camera \"{kind}\": fov {fov} is not in (0, {}]", range.max),
+                    ));
+                }
+                fov
+            }
+            None => DEFAULT_FOV_DEGREES,
+        };
         let lens_radius = params.float("lensradius")?.unwrap_or(0.0);
         let focal_distance = params.float("focaldistance")?.unwrap_or(1e6);
         if lens_radius < 0.0 || focal_distance <= 0.0 {
@@ -58,7 +52,8 @@ impl Parser {
             return Err(self.error(line, "Camera: the current transformation is not invertible"));
         }
         self.scene.camera = CameraDesc {
-            projection,
+            kind: camera,
+            fov_degrees,
             camera_to_world: self.state.ctm.inverse(),
             screen_window: params.array::<4>("screenwindow")?,
             lens_radius,

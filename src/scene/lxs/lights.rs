@@ -76,13 +76,26 @@ impl Parser {
                 position: ctm.transform_point3(from),
                 intensity: l * (gain * power_factor(power, efficacy, 4.0 * PI * luminance(l))),
             },
-            "spot" => LightDesc::Spot {
-                position: ctm.transform_point3(from),
-                direction: direction(from, to)?,
-                intensity: scale,
-                cone_angle: params.float("coneangle")?.unwrap_or(30.0),
-                cone_delta_angle: params.float("conedeltaangle")?.unwrap_or(5.0),
-            },
+            "spot" => {
+                let cone_angle = params.float("coneangle")?.unwrap_or(30.0);
+                let cone_delta_angle = params.float("conedeltaangle")?.unwrap_or(5.0);
+                // LuxRender 1.x `lights/spot.cpp` counts the flux of intensity I as
+                // 2 pi I (1 - (cos(fall) + cos(width)) / 2), with width = coneangle and
+                // fall = coneangle - conedeltaangle: the cone's solid angle, the falloff band
+                // counted half.
+                let (cos_width, cos_fall) = (
+                    cone_angle.to_radians().cos(),
+                    (cone_angle - cone_delta_angle).to_radians().cos(),
+                );
+                let flux_per_gain = 2.0 * PI * luminance(l) * (1.0 - 0.5 * (cos_fall + cos_width));
+                LightDesc::Spot {
+                    position: ctm.transform_point3(from),
+                    direction: direction(from, to)?,
+                    intensity: l * (gain * power_factor(power, efficacy, flux_per_gain)),
+                    cone_angle,
+                    cone_delta_angle,
+                }
+            }
             "distant" => LightDesc::Distant {
                 direction_to_light: direction(to, from)?,
                 radiance: scale,
