@@ -12,9 +12,10 @@ use glam::{DMat4, DVec3, Vec2, Vec3};
 use super::error::SourceLoc;
 use super::tree::{Object, ObjectId, SceneTree, Value};
 use super::{emitters, materials, shapes};
+use crate::camera::pinhole;
 use crate::scene::desc::{
-    ColorParam, FilterDesc, FilterKind, Location, MaterialId, Projection, SceneDesc, SceneError,
-    SceneWarning, TextureId, ToneMap,
+    ColorParam, FilterDesc, FilterKind, Location, MaterialId, SceneDesc, SceneError, SceneWarning,
+    TextureId, ToneMap,
 };
 
 /// Reads the Mitsuba scene at `path` (the loader registered for `.xml` in `scene::LOADERS`).
@@ -71,9 +72,8 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
             &root.loc,
             "no <sensor>: Mitsuba's default camera (perspective, 45 degrees at the origin)".into(),
         );
-        cx.desc.camera.projection = Projection::Perspective {
-            fov_degrees: 45.0 * 576.0 / 768.0,
-        };
+        cx.desc.camera.kind = &pinhole::CAMERA;
+        cx.desc.camera.fov_degrees = 45.0 * 576.0 / 768.0;
     }
     for (_, extra) in sensors {
         cx.warn(
@@ -445,9 +445,8 @@ impl Converter<'_> {
         // The field of view along the shorter image side, which foton's perspective spans:
         // tan(fov_short / 2) = tan(fov / 2) * short / axis_len.
         let half = (fov.to_radians() / 2.0).tan() * w.min(h) / axis_len;
-        self.desc.camera.projection = Projection::Perspective {
-            fov_degrees: 2.0 * half.atan().to_degrees(),
-        };
+        self.desc.camera.kind = &pinhole::CAMERA;
+        self.desc.camera.fov_degrees = 2.0 * half.atan().to_degrees();
         if sensor.plugin == "thinlens" {
             self.desc.camera.lens_radius = self.float(sensor, "aperture_radius", 0.0);
             self.desc.camera.focal_distance = self.float(sensor, "focus_distance", 0.0).max(1e-4);
