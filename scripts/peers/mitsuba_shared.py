@@ -5,7 +5,7 @@ docs/images/mitsuba-NAME.png (foton | Mitsuba | absolute difference, one exposur
 table of the agreement to stdout. Run `bash scripts/peers/setup.sh` and `cargo build --release`
 first, then from the repository root:
 
-    .venv-peers/bin/python scripts/peers/mitsuba_shared.py [--spp 32]
+    .venv-peers/bin/python scripts/peers/mitsuba_shared.py [--spp 32] [--scenes tut-cbox,ppg-torus]
 """
 
 import argparse
@@ -53,6 +53,7 @@ def panel(img, scale):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--spp", type=int, default=32)
+    ap.add_argument("--scenes", default="", help="comma-separated names (default: all)")
     args = ap.parse_args()
     mi.set_variant("llvm_ad_rgb" if os.path.exists(os.environ["DRJIT_LIBLLVM_PATH"]) else "scalar_rgb")
     out = REPO / "docs/images"
@@ -60,10 +61,14 @@ def main():
     tmp.mkdir(parents=True, exist_ok=True)
     print("| scene | resolution | mean foton / Mitsuba (R, G, B) | relative MSE | foton s | Mitsuba s |")
     print("|---|---|---|---|---|---|")
-    for name, rel in SCENES.items():
+    chosen = [n for n in args.scenes.split(",") if n] or list(SCENES)
+    for name, rel in ((n, SCENES[n]) for n in chosen):
         path = SHARED / rel
         t = time.time()
-        m = np.array(mi.render(load_mitsuba(path, name, args.spp), spp=args.spp, seed=0))[..., :3]
+        scene = load_mitsuba(path, name, args.spp)
+        # A scene without an integrator renders with Mitsuba's default, path.
+        integrator = None if scene.integrator() else mi.load_dict({"type": "path"})
+        m = np.array(mi.render(scene, spp=args.spp, seed=0, integrator=integrator))[..., :3]
         tm = time.time() - t
         exr = tmp / f"{name}.exr"
         t = time.time()
