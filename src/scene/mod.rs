@@ -5,6 +5,7 @@ pub mod build;
 pub mod desc;
 pub mod io;
 pub mod lxs;
+pub mod mitsuba;
 
 use std::path::Path;
 
@@ -15,7 +16,7 @@ pub type Loader = fn(&Path) -> Result<SceneDesc, SceneError>;
 
 /// Every scene format: the file extensions it takes (lower case, without the dot) and its
 /// loader. One line per format.
-pub const LOADERS: &[(&[&str], Loader)] = &[(&["lxs"], lxs::load)];
+pub const LOADERS: &[(&[&str], Loader)] = &[(&["lxs"], lxs::load), (&["xml"], mitsuba::load)];
 
 /// Loads the scene at `path` with the loader its extension names (in any case).
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
