@@ -48,12 +48,9 @@ mod tests {
     fn spline_interpolates_segment_ends() {
         // A cubic Bezier passes through its first and last control points: at the start of
         // segment k (t = k / 6) the value is colour k; at t = 1, colour 8.
-        for k in 0..6 {
+        for (k, c) in COLOURS.iter().enumerate().take(6) {
             let v = spline(k as f32 / 6.0);
-            assert!(
-                (v - Vec3::from_array(COLOURS[k])).length() < 1e-6,
-                "{k}: {v}"
-            );
+            assert!((v - Vec3::from_array(*c)).length() < 1e-6, "{k}: {v}");
         }
         assert!((spline(1.0) - Vec3::from_array(COLOURS[8])).length() < 1e-6);
         // Midpoint of segment 4 (colours 4..7): (c4 + 3 c5 + 3 c6 + c7) / 8.
