@@ -164,6 +164,17 @@ pub enum FilterKind {
         alpha: f32,
     },
     BlackmanHarris,
+    /// Mitchell and Netravali 1988 cubic with parameters B and C (LuxRender's defaults 1/3, 1/3).
+    Mitchell {
+        b: f32,
+        c: f32,
+    },
+    /// A tent reaching 0 at the radius.
+    Triangle,
+    /// Lanczos-windowed sinc with `tau` lobes (LuxRender's `sinc`, default 3).
+    Sinc {
+        tau: f32,
+    },
 }
 
 /// A decoded image, linear RGB, rows from the top.
