@@ -7,12 +7,11 @@ use std::path::Path;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
-use foton::scene::lxs;
 use foton::settings::IntegratorKind;
 
 fn wavefront(c: &mut Criterion) {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell.lxs");
-    let desc = lxs::load(&scene).expect("scenes/cornell.lxs loads");
+    let desc = foton::scene::load(&scene).expect("scenes/cornell.lxs loads");
     let (width, height, spp) = (160, 160, 4);
     let mut group = c.benchmark_group("wavefront");
     group.sample_size(10);

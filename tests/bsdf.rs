@@ -5,8 +5,9 @@ use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::frame::Frame;
 use foton::bsdf::fresnel::{fr_dielectric, schlick};
 use foton::bsdf::microfacet::TrowbridgeReitz;
+use foton::bsdf::microfacet::clamp_alpha;
 use foton::bsdf::oren_nayar::oren_nayar_ab;
-use foton::bsdf::{Bsdf, CoatedGlossy, roughness_to_alpha};
+use foton::bsdf::{Bsdf, CoatedGlossy};
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
@@ -393,8 +394,7 @@ fn ggx_d_projected_area_is_one() {
 }
 
 #[test]
-fn roughness_to_alpha_is_monotone_and_clamped() {
-    // metal2's Schlick distribution with r = u v is GGX with alpha^2 = r.
+fn alpha_is_monotone_and_clamped() {
     for (roughness, alpha) in [
         (0.0, 1e-3),
         (-1.0, 1e-3),
@@ -407,15 +407,11 @@ fn roughness_to_alpha_is_monotone_and_clamped() {
         (3.0, 1.0),
         (f32::INFINITY, 1.0),
     ] {
-        assert_eq!(
-            roughness_to_alpha(roughness),
-            alpha,
-            "roughness {roughness}"
-        );
+        assert_eq!(clamp_alpha(roughness), alpha, "roughness {roughness}");
     }
     let mut last = 0.0;
     for i in 0..=2000 {
-        let a = roughness_to_alpha(i as f32 * 1e-3);
+        let a = clamp_alpha(i as f32 * 1e-3);
         assert!(a >= last && a.is_finite());
         last = a;
     }
@@ -656,6 +652,11 @@ fn coated_glossy_energy() {
             assert!(b < a, "absorption: {b} vs {a}");
         }
     }
-    assert!((coating_f0(Vec3::splat(0.3), 1.5) - Vec3::splat(0.04)).abs().max_element() < 1e-7);
+    assert!(
+        (coating_f0(Vec3::splat(0.3), 1.5) - Vec3::splat(0.04))
+            .abs()
+            .max_element()
+            < 1e-7
+    );
     assert_eq!(coating_f0(Vec3::splat(0.3), 0.0), Vec3::splat(0.3));
 }

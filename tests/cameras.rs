@@ -115,7 +115,7 @@ fn scene_file(name: &str) -> SceneDesc {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
-    foton::scene::lxs::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    foton::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]

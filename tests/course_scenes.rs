@@ -4,8 +4,7 @@ mod common;
 
 use foton::film::{exposure_scale, luminance, read_png_linear};
 use foton::integrator::Renderer;
-use foton::scene::build::{RenderOptions, build_world};
-use foton::scene::lxs;
+use foton::scene::build::{RenderOptions, build_world, tone_map};
 use glam::Vec3;
 
 /// Box-averages a `w` x `h` image down by `factor` in each axis.
@@ -38,7 +37,7 @@ fn metal2_scene_looks_like_luxrenders_render() {
     let Some(itba) = common::shared_scenes() else {
         return;
     };
-    let desc = lxs::load(&itba.join("metal2_scene/untitled.lxs")).expect("metal2 loads");
+    let desc = foton::scene::load(&itba.join("metal2_scene/untitled.lxs")).expect("metal2 loads");
     let (film_gamma, tonemap) = (desc.film.gamma, desc.film.tonemap);
     let (w, h) = (240usize, 135usize);
     let options = RenderOptions {
@@ -50,7 +49,7 @@ fn metal2_scene_looks_like_luxrenders_render() {
     let mut renderer = Renderer::new(build_world(desc, &options).0);
     renderer.render(|_| true);
     let ours = renderer.image();
-    let scale = exposure_scale(tonemap, &ours, film_gamma);
+    let scale = exposure_scale(tone_map(tonemap), &ours, film_gamma);
     let display: Vec<Vec3> = ours
         .iter()
         .map(|p| (*p * scale).clamp(Vec3::ZERO, Vec3::ONE))

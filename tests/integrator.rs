@@ -104,13 +104,13 @@ fn centre_form_factor(a: f32, b: f32, h: f32) -> f32 {
 #[test]
 fn area_light_reflection_matches_the_analytic_answer() {
     use foton::scene::desc::{ColorParam, MaterialDesc};
-    let matte = MaterialDesc::Matte {
-        kd: ColorParam::Constant(Vec3::splat(0.5)),
+    let matte = MaterialDesc::Diffuse {
+        reflectance: ColorParam::Constant(Vec3::splat(0.5)),
     };
-    let metal = MaterialDesc::Metal {
-        kr: ColorParam::Constant(Vec3::ONE),
-        u_roughness: 0.3,
-        v_roughness: 0.3,
+    let metal = MaterialDesc::RoughConductor {
+        specular: ColorParam::Constant(Vec3::ONE),
+        alpha_u: 0.3,
+        alpha_v: 0.3,
     };
     for (material, half, expected) in [
         (

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use foton::scene::desc::{
-    AreaLightDesc, ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, Projection,
-    SceneDesc, SceneError, ToneMap,
+    ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, Projection, SceneDesc, SceneError,
+    ToneMap,
 };
 use foton::scene::lxs::load;
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -49,6 +49,26 @@ fn close(a: Vec3, b: Vec3) -> bool {
     a.abs_diff_eq(b, 1e-5)
 }
 
+/// Equal to 1e-5 of the larger.
+fn close_rel(a: Vec3, b: Vec3) -> bool {
+    (a - b).abs().max_element() <= 1e-5 * a.abs().max(b.abs()).max_element()
+}
+
+const PI64: f64 = std::f64::consts::PI;
+
+/// Luminance with the weights of LuxRender's `RGBColor::Y()`, in f64.
+fn luminance64(c: Vec3) -> f64 {
+    0.212671 * f64::from(c.x) + 0.715160 * f64::from(c.y) + 0.072169 * f64::from(c.z)
+}
+
+/// LuxRender's area light by hand: a one-sided Lambertian emitter of radiance L gain on area A
+/// emits the luminous flux pi A Y(L) gain; `power` W at `efficacy` lm/W rescale it to
+/// power * efficacy lm.
+fn luxrender_area_radiance(l: Vec3, gain: f64, power: f64, efficacy: f64, area: f64) -> Vec3 {
+    let scale = gain * power * efficacy / (PI64 * area * luminance64(l));
+    l * scale as f32
+}
+
 fn messages(scene: &SceneDesc) -> Vec<String> {
     scene.warnings.iter().map(|w| w.to_string()).collect()
 }
@@ -74,6 +94,32 @@ fn mesh(geometry: &Geometry) -> MeshParts<'_> {
 }
 
 const WORLD: &str = "WorldBegin\nWorldEnd\n";
+
+// ---------------------------------------------------------------- the loader registry
+
+#[test]
+fn scene_load_picks_the_loader_by_extension() {
+    let dir = temp_folder("registry");
+    let upper = write(&dir, "upper.LXS", WORLD);
+    assert!(
+        foton::scene::load(&upper).is_ok(),
+        "the extension in any case"
+    );
+    for (name, found) in [
+        ("scene.obj", "extension \".obj\""),
+        ("scene", "no extension"),
+    ] {
+        let path = write(&dir, name, WORLD);
+        let e = foton::scene::load(&path).unwrap_err();
+        assert_eq!(e.location.file, path);
+        assert!(e.message.contains(found), "{e}");
+        for (extensions, _) in foton::scene::LOADERS {
+            for extension in *extensions {
+                assert!(e.message.contains(&format!(".{extension}")), "{e}");
+            }
+        }
+    }
+}
 
 // ---------------------------------------------------------------- camera, film, options
 
@@ -348,26 +394,26 @@ fn materials_of_every_kind() {
     assert_eq!(
         s.materials,
         vec![
-            MaterialDesc::Matte {
-                kd: c(0.1, 0.2, 0.3)
+            MaterialDesc::Diffuse {
+                reflectance: c(0.1, 0.2, 0.3)
             },
             MaterialDesc::Mirror {
-                kr: c(0.7, 0.7, 0.7)
+                reflectance: c(0.7, 0.7, 0.7)
             },
-            MaterialDesc::Glass {
-                kr: c(1.0, 1.0, 1.0),
-                kt: c(0.9, 0.9, 0.9),
-                index: 1.52
+            MaterialDesc::Dielectric {
+                reflectance: c(1.0, 1.0, 1.0),
+                transmittance: c(0.9, 0.9, 0.9),
+                ior: 1.52
             },
-            MaterialDesc::Metal {
-                kr: c(1.0, 0.5, 0.0),
-                u_roughness: 0.075,
-                v_roughness: 0.2
+            MaterialDesc::RoughConductor {
+                specular: c(1.0, 0.5, 0.0),
+                alpha_u: 0.075,
+                alpha_v: 0.2
             },
-            MaterialDesc::Metal {
-                kr: c(1.0, 1.0, 1.0),
-                u_roughness: 0.3,
-                v_roughness: 0.3
+            MaterialDesc::RoughConductor {
+                specular: c(1.0, 1.0, 1.0),
+                alpha_u: 0.3,
+                alpha_v: 0.3
             },
             MaterialDesc::Null,
             MaterialDesc::Mix {
@@ -375,8 +421,8 @@ fn materials_of_every_kind() {
                 second: 1,
                 amount: 0.25
             },
-            MaterialDesc::Matte {
-                kd: c(0.5, 0.5, 0.5)
+            MaterialDesc::Diffuse {
+                reflectance: c(0.5, 0.5, 0.5)
             },
         ]
     );
@@ -397,16 +443,16 @@ fn material_quirks_warn() {
     );
     assert_eq!(
         s.materials[1],
-        MaterialDesc::Metal {
-            kr: ColorParam::Constant(Vec3::ONE),
-            u_roughness: 0.1,
-            v_roughness: 0.1,
+        MaterialDesc::RoughConductor {
+            specular: ColorParam::Constant(Vec3::ONE),
+            alpha_u: 0.1,
+            alpha_v: 0.1,
         }
     );
     assert_eq!(
         s.materials[2],
-        MaterialDesc::Matte {
-            kd: ColorParam::Constant(Vec3::splat(0.5))
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Constant(Vec3::splat(0.5))
         }
     );
     let w = messages(&s);
@@ -469,14 +515,14 @@ fn imagemap_texture_decodes_with_gamma_gain_and_mapping() {
     assert!(close(s.textures[1].texels[0], Vec3::splat(128.0 / 255.0)));
     assert_eq!(
         s.materials[0],
-        MaterialDesc::Matte {
-            kd: ColorParam::Texture(0)
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Texture(0)
         }
     );
     assert!(matches!(
         s.materials[1],
-        MaterialDesc::Metal {
-            kr: ColorParam::Texture(1),
+        MaterialDesc::RoughConductor {
+            specular: ColorParam::Texture(1),
             ..
         }
     ));
@@ -525,10 +571,10 @@ fn course_texture_dialect_loads_with_warnings() {
     assert_eq!(s.textures[0].path, dir.join("texture/metal-1.png"));
     assert_eq!(
         s.materials[0],
-        MaterialDesc::Metal {
-            kr: ColorParam::Texture(0),
-            u_roughness: 0.1,
-            v_roughness: 0.1
+        MaterialDesc::RoughConductor {
+            specular: ColorParam::Texture(0),
+            alpha_u: 0.1,
+            alpha_v: 0.1
         }
     );
     let w = messages(&s);
@@ -571,14 +617,14 @@ fn constant_and_unsupported_textures() {
     );
     assert_eq!(
         s.materials[0],
-        MaterialDesc::Matte {
-            kd: ColorParam::Constant(Vec3::new(0.2, 0.4, 0.6))
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Constant(Vec3::new(0.2, 0.4, 0.6))
         }
     );
     assert_eq!(
         s.materials[1],
-        MaterialDesc::Matte {
-            kd: ColorParam::Constant(Vec3::splat(0.5))
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Constant(Vec3::splat(0.5))
         }
     );
     assert_eq!(s.warnings.len(), 1);
@@ -725,6 +771,30 @@ fn point_spot_and_distant_lights_go_through_the_ctm() {
     }
 }
 
+/// A point light of intensity I emits 4 pi I in all; with `power` and `efficacy` LuxRender
+/// rescales the gain so that its luminous flux 4 pi Y(I) is power * efficacy.
+#[test]
+fn point_light_power_sets_its_luminous_flux() {
+    let s = scene(
+        "point_power",
+        "WorldBegin
+         LightSource \"point\" \"color L\" [1 0.5 0.25] \"float gain\" [4] \"float power\" [60] \"float efficacy\" [17]\n         LightSource \"point\" \"color L\" [1 0.5 0.25] \"float power\" [60] \"float efficacy\" [0]\nWorldEnd\n",
+    );
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    let l = Vec3::new(1.0, 0.5, 0.25);
+    let intensity = |light: &LightDesc| match light {
+        LightDesc::Point { intensity, .. } => *intensity,
+        other => panic!("{other:?}"),
+    };
+    // gain * power * efficacy / (4 pi Y(L)): the file's gain scales the flux asked for.
+    let expected = l * (4.0 * 60.0 * 17.0 / (4.0 * PI64 * luminance64(l))) as f32;
+    assert!(close_rel(intensity(&s.lights[0]), expected), "{expected}");
+    let flux = 4.0 * PI64 * luminance64(intensity(&s.lights[0]));
+    assert!((flux / (4.0 * 60.0 * 17.0) - 1.0).abs() < 1e-5, "{flux}");
+    // Efficacy 0: no power normalisation, L * gain as written.
+    assert_eq!(intensity(&s.lights[1]), l);
+}
+
 #[test]
 fn infinite_lights_constant_and_mapped() {
     let dir = temp_folder("infinite");
@@ -772,14 +842,13 @@ fn area_light_applies_to_following_shapes_in_its_block() {
          Shape \"sphere\" \"float radius\" [0.05]\nShape \"sphere\"\nAttributeEnd # \"\"\n\
          Shape \"sphere\"\nWorldEnd\n",
     );
-    let area = AreaLightDesc {
-        l: Vec3::new(1.0, 0.9, 0.6),
-        gain: 2.0,
-        power: 100.0,
-        efficacy: 17.0,
-    };
-    assert_eq!(s.shapes[0].area_light, Some(area));
-    assert_eq!(s.shapes[1].area_light, Some(area));
+    // Each shape's radiance puts the asked-for flux on its own area.
+    let l = Vec3::new(1.0, 0.9, 0.6);
+    for (shape, radius) in [(&s.shapes[0], 0.05), (&s.shapes[1], 1.0)] {
+        let expected = luxrender_area_radiance(l, 2.0, 100.0, 17.0, 4.0 * PI64 * radius * radius);
+        let radiance = shape.area_light.expect("an emitter").radiance;
+        assert!(close_rel(radiance, expected), "{radiance} {expected}");
+    }
     assert_eq!(s.shapes[2].area_light, None);
     assert!(s.lights.is_empty());
     assert!(s.warnings.is_empty(), "{:?}", messages(&s));
@@ -813,10 +882,7 @@ fn includes_resolve_next_to_the_including_file_then_in_parent_folders() {
     assert_eq!(s.warnings.len(), 1);
     assert_eq!(
         s.warnings[0].location,
-        foton::scene::desc::Location {
-            file: path.clone(),
-            line: 3
-        }
+        foton::scene::desc::Location::line(path.clone(), 3)
     );
     assert!(s.warnings[0].message.contains("found as"));
 }
@@ -1240,15 +1306,23 @@ fn cornell_box_details() {
     assert!(s.warnings.is_empty(), "{:?}", messages(&s));
     let light = s.shapes.last().unwrap();
     assert_eq!(light.geometry, Geometry::Sphere { radius: 0.05 });
-    assert_eq!(
-        light.area_light,
-        Some(AreaLightDesc {
-            l: Vec3::new(1.0, 0.919_171_9, 0.623_396_5),
-            gain: 2.0,
-            power: 100.0,
-            efficacy: 17.0
-        })
+    // The sphere is scaled uniformly by k: its area is 4 pi (k r)^2.
+    let m = glam::Mat3::from_mat4(light.object_to_world);
+    let k = f64::from(m.x_axis.length());
+    assert!(
+        m.abs_diff_eq(glam::Mat3::from_diagonal(Vec3::splat(k as f32)), 1e-4),
+        "{m}"
     );
+    let radius = 0.05 * k;
+    let expected = luxrender_area_radiance(
+        Vec3::new(1.0, 0.919_171_9, 0.623_396_5),
+        2.0,
+        100.0,
+        17.0,
+        4.0 * PI64 * radius * radius,
+    );
+    let radiance = light.area_light.expect("an emitter").radiance;
+    assert!(close_rel(radiance, expected), "{radiance} {expected}");
     assert_eq!(s.materials[light.material.unwrap()], MaterialDesc::Null);
     assert!(close(
         light.object_to_world.transform_point3(Vec3::ZERO),
@@ -1270,10 +1344,10 @@ fn metal2_scene_is_not_mirrored() {
         left.x / left.z < right.x / right.z,
         "(-3,0,1) must appear left of (0,0,1)"
     );
-    assert!(s.materials.contains(&MaterialDesc::Metal {
-        kr: ColorParam::Constant(Vec3::ONE),
-        u_roughness: 0.075,
-        v_roughness: 0.075,
+    assert!(s.materials.contains(&MaterialDesc::RoughConductor {
+        specular: ColorParam::Constant(Vec3::ONE),
+        alpha_u: 0.075,
+        alpha_v: 0.075,
     }));
 }
 
@@ -1292,13 +1366,13 @@ fn charizard_and_scene_2_textures_resolve_through_parent_folders() {
     assert!(normals.is_some() && uvs.is_some());
     let s = load(&scenes.join("scene_2/scene_2.lxs")).unwrap();
     assert!(s.textures[0].path.ends_with("texture/metal-1.jpg"));
-    assert!(s.materials.contains(&MaterialDesc::Matte {
-        kd: ColorParam::Texture(1)
+    assert!(s.materials.contains(&MaterialDesc::Diffuse {
+        reflectance: ColorParam::Texture(1)
     }));
-    assert!(s.materials.contains(&MaterialDesc::Metal {
-        kr: ColorParam::Texture(0),
-        u_roughness: 0.2,
-        v_roughness: 0.2,
+    assert!(s.materials.contains(&MaterialDesc::RoughConductor {
+        specular: ColorParam::Texture(0),
+        alpha_u: 0.2,
+        alpha_v: 0.2,
     }));
     assert_eq!(
         s.lights[0],

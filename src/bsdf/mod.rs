@@ -41,7 +41,8 @@ pub enum Bsdf {
         transmittance: Vec3,
         eta: f32,
     },
-    /// GGX roughness along the local x and y axes (see [`roughness_to_alpha`]).
+    /// GGX roughness along the local x and y axes (clamped by
+    /// [`microfacet::clamp_alpha`]).
     Conductor {
         f0: Vec3,
         alpha_x: f32,
@@ -201,28 +202,4 @@ fn conductor(f0: Vec3, alpha_x: f32, alpha_y: f32) -> Conductor {
         f0,
         distribution: TrowbridgeReitz::new(alpha_x, alpha_y),
     }
-}
-
-/// The roughness as LuxRender scene files write it (metal2's `uroughness`,
-/// `vroughness`) to GGX alpha.
-///
-/// LuxRender 1.x's metal2 (`materials/metal2.cpp`, LuxRender/Lux on GitHub)
-/// builds `SchlickDistribution(u * v, anisotropy)`, and
-/// `core/reflection/microfacetdistribution/schlickdistribution.h` defines
-/// D = Z(cos) A(phi) / pi with Z(t) = r / (1 + (r - 1) t^2)^2, r = u v.
-/// Isotropic GGX is D = alpha^2 / (pi (1 + (alpha^2 - 1) cos^2)^2)
-/// (Walter et al. 2007, eq. 33 rewritten in cos): the same function with
-/// r = alpha^2. So alpha = roughness exactly for u = v, and alpha_x = u,
-/// alpha_y = v keeps alpha_x alpha_y = r and the wider lobe along the larger
-/// roughness (Schlick's A(phi) shapes the anisotropy differently).
-///
-/// (The Blinn mapping exponent = 1 / roughness is that of LuxRender's older
-/// `metal`, `shinymetal`, `plastic`, `roughglass` (pbrt-v1 heritage), whose
-/// GGX/Beckmann match would be alpha = sqrt(2 / (e + 2)), Walter et al. 2007;
-/// it does not apply to metal2.)
-///
-/// Clamped to [`microfacet::ALPHA_MIN`] = 1e-3 (so near-zero roughness stays
-/// finite) and [`microfacet::ALPHA_MAX`] = 1; NaN gives 1e-3.
-pub fn roughness_to_alpha(roughness: f32) -> f32 {
-    microfacet::clamp_alpha(roughness)
 }

@@ -9,9 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::SceneArgs;
 use crate::film::{Film, exposure_scale, write_image};
 use crate::integrator::{RenderStats, Renderer};
-use crate::scene::build::build_world;
+use crate::scene;
+use crate::scene::build::{build_world, tone_map};
 use crate::scene::desc::FilmDesc;
-use crate::scene::lxs;
 
 /// A loaded scene, ready to render.
 pub struct Prepared {
@@ -27,7 +27,7 @@ pub fn prepare(args: &SceneArgs) -> Result<Prepared, String> {
             .num_threads(threads as usize)
             .build_global();
     }
-    let desc = lxs::load(&args.scene).map_err(|e| e.to_string())?;
+    let desc = scene::load(&args.scene).map_err(|e| e.to_string())?;
     for warning in &desc.warnings {
         eprintln!("{warning}");
     }
@@ -56,8 +56,13 @@ pub fn run(
         let stats = render_with_progress(&mut prepared.renderer);
         let film = prepared.renderer.world.resource::<Film>();
         let pixels = film.mean();
-        let scale = exposure
-            .unwrap_or_else(|| exposure_scale(prepared.film.tonemap, &pixels, prepared.film.gamma));
+        let scale = exposure.unwrap_or_else(|| {
+            exposure_scale(
+                tone_map(prepared.film.tonemap),
+                &pixels,
+                prepared.film.gamma,
+            )
+        });
         write_image(&output, film.width(), film.height(), &pixels, scale)
             .map_err(|e| format!("error: {e}"))?;
         if film.rejected_samples() > 0 {

@@ -16,12 +16,33 @@ use std::f32::consts::PI;
 use glam::Vec2;
 
 use crate::sampling::Distribution1D;
-use crate::scene::desc::{FilterDesc, FilterKind};
 
 /// Bins of the tabulated inverse CDF over [0, r] of each axis.
 const TABLE_BINS: usize = 64;
 /// Simpson panels integrating the filter over one bin.
 const PANELS_PER_BIN: usize = 8;
+
+/// The filter's profile along each axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FilterKind {
+    Box,
+    /// `alpha`: the falloff, as in pbrt: exp(-alpha x^2) - exp(-alpha r^2).
+    Gaussian {
+        alpha: f32,
+    },
+    BlackmanHarris,
+    /// Mitchell and Netravali 1988 cubic with parameters B and C (LuxRender's defaults 1/3, 1/3).
+    Mitchell {
+        b: f32,
+        c: f32,
+    },
+    /// A tent reaching 0 at the radius.
+    Triangle,
+    /// Lanczos-windowed sinc with `tau` lobes (LuxRender's `sinc`, default 3).
+    Sinc {
+        tau: f32,
+    },
+}
 
 /// A separable filter f(x, y) = f1(x; rx) f1(y; ry) on [-rx, rx] x [-ry, ry].
 #[derive(Clone, Debug)]
@@ -36,19 +57,16 @@ pub struct PixelFilter {
 
 impl PixelFilter {
     /// A non-finite or non-positive radius is replaced by 0.5 (a one-pixel box).
-    pub fn new(desc: &FilterDesc) -> Self {
+    pub fn new(kind: FilterKind, radius: Vec2) -> Self {
         let sanitise = |r: f32| if r.is_finite() && r > 0.0 { r } else { 0.5 };
-        let radius = Vec2::new(sanitise(desc.radius.x), sanitise(desc.radius.y));
-        let tables = match desc.kind {
+        let radius = Vec2::new(sanitise(radius.x), sanitise(radius.y));
+        let tables = match kind {
             FilterKind::Box => None,
             kind => Some([radius.x, radius.y].map(|r| half_axis_table(kind, r))),
         };
-        let sign_weight = Vec2::new(
-            sign_weight(desc.kind, radius.x),
-            sign_weight(desc.kind, radius.y),
-        );
+        let sign_weight = Vec2::new(sign_weight(kind, radius.x), sign_weight(kind, radius.y));
         Self {
-            kind: desc.kind,
+            kind,
             radius,
             tables,
             sign_weight,
@@ -215,7 +233,7 @@ mod tests {
             (FilterKind::Triangle, Vec2::new(2.0, 1.0)),
             (FilterKind::Sinc { tau: 3.0 }, Vec2::new(4.0, 4.0)),
         ]
-        .map(|(kind, radius)| PixelFilter::new(&FilterDesc { kind, radius }))
+        .map(|(kind, radius)| PixelFilter::new(kind, radius))
         .to_vec()
     }
 
@@ -313,10 +331,7 @@ mod tests {
 
     #[test]
     fn triangle_and_sinc_values() {
-        let tri = PixelFilter::new(&FilterDesc {
-            kind: FilterKind::Triangle,
-            radius: Vec2::splat(2.0),
-        });
+        let tri = PixelFilter::new(FilterKind::Triangle, Vec2::splat(2.0));
         assert!((tri.evaluate(Vec2::new(1.0, -0.5)) - 0.5 * 0.75).abs() < 1e-6);
         assert_eq!(tri.weight(Vec2::new(1.0, 1.0)), 1.0);
         // sinc(pi t tau) vanishes at t = 1 / tau, 2 / tau; the window at t = 1.

@@ -8,6 +8,6 @@ pub mod output;
 pub mod tonemap;
 
 pub use film::Film;
-pub use filter::PixelFilter;
+pub use filter::{FilterKind, PixelFilter};
 pub use output::{read_exr, read_png_linear, write_image};
-pub use tonemap::{exposure_scale, luminance};
+pub use tonemap::{ToneMap, exposure_scale, luminance};

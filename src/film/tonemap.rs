@@ -6,7 +6,14 @@
 
 use glam::Vec3;
 
-use crate::scene::desc::ToneMap;
+/// How linear radiance is scaled for display.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToneMap {
+    /// LuxRender's `autolinear`: exposure from the image's mean luminance.
+    AutoLinear,
+    /// A fixed scale.
+    Linear { scale: f32 },
+}
 
 /// Luminance Y of linear Rec.709/sRGB: the Y row of the sRGB-to-XYZ matrix (D65), with the
 /// digits LuxRender's `RGBColor::Y()` uses.

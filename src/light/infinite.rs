@@ -8,10 +8,9 @@ use glam::{Mat3, Vec2, Vec3};
 
 use super::LightSample;
 use crate::film::luminance;
-use crate::material::texture::sample_bilinear;
+use crate::material::texture::{ImageTexture, sample_bilinear};
 use crate::sampling::Distribution2D;
 use crate::sampling::warp::{uniform_sphere, uniform_sphere_pdf};
-use crate::scene::desc::ImageTexture;
 
 /// The entity's component, as the scene gives it.
 #[derive(Component, Clone, Debug)]

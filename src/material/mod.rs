@@ -6,30 +6,71 @@ pub mod texture;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
-use crate::bsdf::{Bsdf, roughness_to_alpha};
-use crate::scene::desc::{ColorParam, MaterialDesc};
+use crate::bsdf::Bsdf;
 use texture::TextureTable;
 
 /// Mixes nest at most this deep; deeper chains (only a cycle makes one) resolve to black matte.
 const MAX_MIX_DEPTH: usize = 8;
 
+/// A colour input: a constant, or a texture of the [`TextureTable`] looked up at the hit's uv.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Color {
+    Constant(Vec3),
+    Texture(usize),
+}
+
+/// One material: a BSDF with its inputs, or a rule choosing another material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Material {
+    Lambertian {
+        reflectance: Color,
+    },
+    SpecularReflection {
+        reflectance: Color,
+    },
+    /// `eta` = index inside / index outside.
+    Dielectric {
+        reflectance: Color,
+        transmittance: Color,
+        eta: f32,
+    },
+    /// GGX alphas (clamped by the BSDF) and Schlick's reflectance at normal incidence.
+    Conductor {
+        f0: Color,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
+    /// Rays pass through.
+    Null,
+    /// `amount` of material `second`, `1 - amount` of `first`.
+    Mix {
+        first: usize,
+        second: usize,
+        amount: f32,
+    },
+}
+
 #[derive(Resource, Clone, Debug)]
 pub struct MaterialTable {
-    pub materials: Vec<MaterialDesc>,
+    pub materials: Vec<Material>,
 }
 
 impl MaterialTable {
     /// Whether any material reads a texture (the geometry then keeps uvs).
     pub fn uses_textures(&self) -> bool {
         self.materials.iter().any(|m| {
-            let params: &[&ColorParam] = match m {
-                MaterialDesc::Matte { kd } => &[kd],
-                MaterialDesc::Mirror { kr } => &[kr],
-                MaterialDesc::Glass { kr, kt, .. } => &[kr, kt],
-                MaterialDesc::Metal { kr, .. } => &[kr],
-                MaterialDesc::Null | MaterialDesc::Mix { .. } => &[],
+            let inputs: &[&Color] = match m {
+                Material::Lambertian { reflectance } => &[reflectance],
+                Material::SpecularReflection { reflectance } => &[reflectance],
+                Material::Dielectric {
+                    reflectance,
+                    transmittance,
+                    ..
+                } => &[reflectance, transmittance],
+                Material::Conductor { f0, .. } => &[f0],
+                Material::Null | Material::Mix { .. } => &[],
             };
-            params.iter().any(|p| matches!(p, ColorParam::Texture(_)))
+            inputs.iter().any(|c| matches!(c, Color::Texture(_)))
         })
     }
 
@@ -42,36 +83,40 @@ impl MaterialTable {
         textures: Option<&TextureTable>,
         mut choice: f32,
     ) -> Option<Bsdf> {
-        let color = |p: &ColorParam| match (p, textures) {
-            (ColorParam::Constant(c), _) => *c,
-            (ColorParam::Texture(t), Some(table)) => table.lookup(*t, uv),
-            (ColorParam::Texture(_), None) => Vec3::splat(0.5),
+        let color = |c: &Color| match (c, textures) {
+            (Color::Constant(c), _) => *c,
+            (Color::Texture(t), Some(table)) => table.lookup(*t, uv),
+            (Color::Texture(_), None) => Vec3::splat(0.5),
         };
         let mut id = id as usize;
         for _ in 0..MAX_MIX_DEPTH {
             return match self.materials.get(id)? {
-                MaterialDesc::Matte { kd } => Some(Bsdf::Lambertian {
-                    reflectance: color(kd),
+                Material::Lambertian { reflectance } => Some(Bsdf::Lambertian {
+                    reflectance: color(reflectance),
                 }),
-                MaterialDesc::Mirror { kr } => Some(Bsdf::SpecularReflection {
-                    reflectance: color(kr),
+                Material::SpecularReflection { reflectance } => Some(Bsdf::SpecularReflection {
+                    reflectance: color(reflectance),
                 }),
-                MaterialDesc::Glass { kr, kt, index } => Some(Bsdf::Dielectric {
-                    reflectance: color(kr),
-                    transmittance: color(kt),
-                    eta: *index,
+                Material::Dielectric {
+                    reflectance,
+                    transmittance,
+                    eta,
+                } => Some(Bsdf::Dielectric {
+                    reflectance: color(reflectance),
+                    transmittance: color(transmittance),
+                    eta: *eta,
                 }),
-                MaterialDesc::Metal {
-                    kr,
-                    u_roughness,
-                    v_roughness,
+                Material::Conductor {
+                    f0,
+                    alpha_x,
+                    alpha_y,
                 } => Some(Bsdf::Conductor {
-                    f0: color(kr),
-                    alpha_x: roughness_to_alpha(*u_roughness),
-                    alpha_y: roughness_to_alpha(*v_roughness),
+                    f0: color(f0),
+                    alpha_x: *alpha_x,
+                    alpha_y: *alpha_y,
                 }),
-                MaterialDesc::Null => None,
-                MaterialDesc::Mix {
+                Material::Null => None,
+                Material::Mix {
                     first,
                     second,
                     amount,

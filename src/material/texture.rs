@@ -1,9 +1,21 @@
 //! Image textures, looked up with bilinear filtering and repeat wrapping.
 
+use std::sync::Arc;
+
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
-use crate::scene::desc::ImageTexture;
+/// A linear RGB image with its uv mapping.
+#[derive(Clone, Debug)]
+pub struct ImageTexture {
+    pub width: u32,
+    pub height: u32,
+    /// `width * height` texels, rows from the top.
+    pub texels: Arc<Vec<Vec3>>,
+    /// (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped (repeat).
+    pub scale: Vec2,
+    pub delta: Vec2,
+}
 
 /// Present only when the scene has textures.
 #[derive(Resource, Clone, Debug)]

@@ -1,27 +1,27 @@
 //! From a scene description to the bevy_ecs world: one entity per camera, shape and light, and
 //! the resources the schedules read. Only what the scene uses is inserted.
 
-use std::f32::consts::PI;
-
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
-use super::desc::{AreaLightDesc, Geometry, LightDesc, MaterialDesc, Projection, SceneDesc};
+use super::desc::{
+    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, Projection, SceneDesc,
+    ToneMap,
+};
 use crate::camera::equirectangular::Equirectangular;
 use crate::camera::fisheye::{Fisheye, FisheyeFit};
 use crate::camera::orthographic::Orthographic;
 use crate::camera::pinhole::Pinhole;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, default_screen_window};
-use crate::film::luminance;
-use crate::film::{Film, PixelFilter};
+use crate::film::{self, Film, PixelFilter};
 use crate::integrator::start_pass::CameraSampling;
 use crate::light::distant::DistantLight;
 use crate::light::infinite::InfiniteLight;
 use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
-use crate::material::MaterialTable;
-use crate::material::texture::TextureTable;
+use crate::material::texture::{self, TextureTable};
+use crate::material::{Color, Material, MaterialTable};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::shape::geometry::GeometryNeeds;
@@ -105,10 +105,10 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
 
     spawn_camera(&mut world, &desc, options, width, height, &mut notes);
 
-    let mut materials = desc.materials.clone();
+    let mut materials: Vec<Material> = desc.materials.iter().map(material).collect();
     let default_material = materials.len();
-    materials.push(MaterialDesc::Matte {
-        kd: super::desc::ColorParam::Constant(Vec3::splat(0.5)),
+    materials.push(Material::Lambertian {
+        reflectance: Color::Constant(Vec3::splat(0.5)),
     });
     let material_table = MaterialTable { materials };
     let uses_textures = material_table.uses_textures();
@@ -116,7 +116,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     for shape in &desc.shapes {
         let material = SurfaceMaterial(shape.material.unwrap_or(default_material) as u32);
         let to_world = Affine3A::from_mat4(shape.object_to_world);
-        let (mut spawned, area) = match &shape.geometry {
+        let mut spawned = match &shape.geometry {
             Geometry::TriangleMesh {
                 positions,
                 normals,
@@ -137,23 +137,15 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                     uvs: uvs.clone().filter(|_| uses_textures),
                     indices: indices.clone(),
                 };
-                let area = mesh_area(&mesh);
-                let entity = world.spawn((mesh, material));
-                (entity, area)
+                world.spawn((mesh, material))
             }
-            Geometry::Sphere { radius } => {
-                let m = to_world.matrix3;
-                let scale = (m.x_axis.length() * m.y_axis.length() * m.z_axis.length()).cbrt();
-                let area = 4.0 * PI * (radius * scale).powi(2);
-                let entity = world.spawn((
-                    Sphere {
-                        object_to_world: to_world,
-                        radius: *radius,
-                    },
-                    material,
-                ));
-                (entity, area)
-            }
+            Geometry::Sphere { radius } => world.spawn((
+                Sphere {
+                    object_to_world: to_world,
+                    radius: *radius,
+                },
+                material,
+            )),
             Geometry::Plane { normal } => {
                 let normal_matrix = to_world.matrix3.inverse().transpose();
                 let plane = Plane {
@@ -161,13 +153,14 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                     normal: Vec3::from(normal_matrix * glam::Vec3A::from(*normal))
                         .normalize_or(Vec3::Z),
                 };
-                (world.spawn((plane, material)), f32::INFINITY)
+                world.spawn((plane, material))
             }
         };
         if let Some(light) = &shape.area_light {
+            let area = shape.surface_area();
             if area.is_finite() && area > 0.0 {
                 spawned.insert(AreaEmitter {
-                    radiance: area_radiance(light, area),
+                    radiance: light.radiance,
                 });
             } else {
                 notes.push(format!(
@@ -226,7 +219,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                 }
                 world.spawn(InfiniteLight {
                     radiance: *radiance,
-                    map: map.and_then(|id| desc.textures.get(id).cloned()),
+                    map: map.and_then(|id| desc.textures.get(id).map(image_texture)),
                     light_to_world: Mat3::from_mat4(*light_to_world),
                 });
             }
@@ -235,14 +228,24 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
 
     if uses_textures {
         world.insert_resource(TextureTable {
-            textures: desc.textures.clone(),
+            textures: desc.textures.iter().map(image_texture).collect(),
         });
     }
     world.insert_resource(GeometryNeeds { uvs: uses_textures });
     world.insert_resource(material_table);
     world.insert_resource(CameraSampling {
         sampler: PixelSampler::new(settings.sampler, settings.samples_per_pixel, settings.seed),
-        filter: PixelFilter::new(&desc.filter),
+        filter: PixelFilter::new(
+            match desc.filter.kind {
+                FilterKind::Box => film::FilterKind::Box,
+                FilterKind::Gaussian { alpha } => film::FilterKind::Gaussian { alpha },
+                FilterKind::BlackmanHarris => film::FilterKind::BlackmanHarris,
+                FilterKind::Mitchell { b, c } => film::FilterKind::Mitchell { b, c },
+                FilterKind::Triangle => film::FilterKind::Triangle,
+                FilterKind::Sinc { tau } => film::FilterKind::Sinc { tau },
+            },
+            desc.filter.radius,
+        ),
     });
     world.insert_resource(Film::new(width, height));
     world.insert_resource(settings);
@@ -330,24 +333,64 @@ fn spawn_camera(
     }
 }
 
-/// LuxRender's area light: L * gain, and with power and efficacy both set, scaled so the
-/// emitter's luminous flux is power * efficacy (flux = pi * area * L for a one-sided
-/// Lambertian emitter).
-fn area_radiance(light: &AreaLightDesc, area: f32) -> Vec3 {
-    let mut gain = light.gain;
-    let y = luminance(light.l);
-    if light.power > 0.0 && light.efficacy > 0.0 && y > 0.0 {
-        gain *= light.power * light.efficacy / (PI * area * y);
+/// The material table's entry for a described material.
+fn material(desc: &MaterialDesc) -> Material {
+    let color = |c: &ColorParam| match *c {
+        ColorParam::Constant(rgb) => Color::Constant(rgb),
+        ColorParam::Texture(id) => Color::Texture(id),
+    };
+    match desc {
+        MaterialDesc::Diffuse { reflectance } => Material::Lambertian {
+            reflectance: color(reflectance),
+        },
+        MaterialDesc::Mirror { reflectance } => Material::SpecularReflection {
+            reflectance: color(reflectance),
+        },
+        MaterialDesc::Dielectric {
+            reflectance,
+            transmittance,
+            ior,
+        } => Material::Dielectric {
+            reflectance: color(reflectance),
+            transmittance: color(transmittance),
+            eta: *ior,
+        },
+        MaterialDesc::RoughConductor {
+            specular,
+            alpha_u,
+            alpha_v,
+        } => Material::Conductor {
+            f0: color(specular),
+            alpha_x: *alpha_u,
+            alpha_y: *alpha_v,
+        },
+        MaterialDesc::Null => Material::Null,
+        MaterialDesc::Mix {
+            first,
+            second,
+            amount,
+        } => Material::Mix {
+            first: *first,
+            second: *second,
+            amount: *amount,
+        },
     }
-    light.l * gain
 }
 
-fn mesh_area(mesh: &TriangleMesh) -> f32 {
-    mesh.indices
-        .iter()
-        .map(|[a, b, c]| {
-            let p = |i: &u32| mesh.positions[*i as usize];
-            0.5 * (p(b) - p(a)).cross(p(c) - p(a)).length()
-        })
-        .sum()
+fn image_texture(image: &ImageTexture) -> texture::ImageTexture {
+    texture::ImageTexture {
+        width: image.width,
+        height: image.height,
+        texels: image.texels.clone(),
+        scale: image.scale,
+        delta: image.delta,
+    }
+}
+
+/// The film's tone map for the described one.
+pub fn tone_map(desc: ToneMap) -> film::ToneMap {
+    match desc {
+        ToneMap::AutoLinear => film::ToneMap::AutoLinear,
+        ToneMap::Linear { scale } => film::ToneMap::Linear { scale },
+    }
 }

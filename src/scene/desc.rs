@@ -1,25 +1,46 @@
-//! The scene description: plain data, as a loader reads it from a file.
+//! The scene description: plain data, as a loader reads it from a file, in no format's terms.
 //!
 //! Every loader (one per format, `scene::lxs`, …) produces a [`SceneDesc`]; `scene::build` turns it
 //! into the bevy_ecs `World` the render schedule runs on. Nothing here knows about rendering.
+//! The description holds physical quantities with neutral defaults: radiance and radiant
+//! intensity (not a format's gain and power), microfacet roughness as GGX alpha, indices of
+//! refraction, linear RGB colours. Each loader converts its format's conventions into these.
 //! Geometry and lights are already in world space; images are decoded to linear RGB.
 
+use std::f32::consts::PI;
 use std::fmt;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Affine3A, Mat4, Vec2, Vec3};
 
-/// Where something came from: a file and a 1-based line.
+/// Where something came from: a file, a 1-based line and, where the format has them (XML),
+/// a 1-based column. Displayed as `file:line` or `file:line:column`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Location {
     pub file: PathBuf,
     pub line: usize,
+    pub column: Option<usize>,
+}
+
+impl Location {
+    /// A line in `file`, without a column.
+    pub fn line(file: impl Into<PathBuf>, line: usize) -> Self {
+        Self {
+            file: file.into(),
+            line,
+            column: None,
+        }
+    }
 }
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}", self.file.display(), self.line)
+        write!(f, "{}:{}", self.file.display(), self.line)?;
+        match self.column {
+            Some(column) => write!(f, ":{column}"),
+            None => Ok(()),
+        }
     }
 }
 
@@ -70,9 +91,10 @@ pub struct SceneDesc {
 }
 
 impl SceneDesc {
-    /// A scene with nothing in it yet, and the format's defaults: a 90-degree perspective camera
-    /// at the origin (its `location` where the loader would name the camera), a 640x480 film
-    /// with gamma 2.2 and autolinear tone mapping, a one-pixel box filter.
+    /// A scene with nothing in it yet, and neutral defaults a loader overrides with its format's:
+    /// a 90-degree perspective camera at the origin (its `location` where the loader would name
+    /// the camera), a 640x480 film with gamma 2.2 and autolinear tone mapping, a one-pixel box
+    /// filter.
     pub fn empty(camera_location: Location) -> Self {
         Self {
             camera: CameraDesc {
@@ -201,23 +223,27 @@ pub enum ColorParam {
     Texture(TextureId),
 }
 
+/// A surface's scattering, as a physical model.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialDesc {
-    /// Lambertian; `sigma` (Oren-Nayar) is ignored with a warning when non-zero.
-    Matte { kd: ColorParam },
-    /// Perfect specular reflection.
-    Mirror { kr: ColorParam },
-    /// Smooth dielectric.
-    Glass {
-        kr: ColorParam,
-        kt: ColorParam,
-        index: f32,
+    /// Lambertian reflection.
+    Diffuse { reflectance: ColorParam },
+    /// A perfect mirror: `reflectance` at every angle, no Fresnel falloff.
+    Mirror { reflectance: ColorParam },
+    /// A smooth dielectric interface: `ior` inside over outside (the normal points outside);
+    /// `reflectance` and `transmittance` scale the Fresnel-weighted lobes.
+    Dielectric {
+        reflectance: ColorParam,
+        transmittance: ColorParam,
+        ior: f32,
     },
-    /// Cook-Torrance microfacet conductor; roughness as written in the file.
-    Metal {
-        kr: ColorParam,
-        u_roughness: f32,
-        v_roughness: f32,
+    /// A GGX microfacet conductor, its Fresnel term Schlick's approximation from `specular`, the
+    /// reflectance at normal incidence; `alpha_u`, `alpha_v` are the roughness along the surface's
+    /// u and v directions.
+    RoughConductor {
+        specular: ColorParam,
+        alpha_u: f32,
+        alpha_v: f32,
     },
     /// Invisible: rays pass through (for light emitters).
     Null,
@@ -250,26 +276,47 @@ pub enum Geometry {
 pub struct ShapeDesc {
     pub geometry: Geometry,
     pub object_to_world: Mat4,
-    /// `None`: no material was set; the builder uses a grey matte.
+    /// `None`: no material was set; the builder uses a grey diffuse.
     pub material: Option<MaterialId>,
     pub area_light: Option<AreaLightDesc>,
     pub location: Location,
 }
 
-/// `AreaLightSource "area"`, as written; the builder normalises `power` by the shape's area.
+impl ShapeDesc {
+    /// The surface area in world space; infinite for a plane. A sphere under a non-uniform scale
+    /// counts as one of the geometric-mean radius (exact for a uniform scale).
+    pub fn surface_area(&self) -> f32 {
+        let to_world = Affine3A::from_mat4(self.object_to_world);
+        match &self.geometry {
+            Geometry::TriangleMesh {
+                positions, indices, ..
+            } => {
+                let p = |i: u32| to_world.transform_point3(positions[i as usize]);
+                indices
+                    .iter()
+                    .map(|&[a, b, c]| 0.5 * (p(b) - p(a)).cross(p(c) - p(a)).length())
+                    .sum()
+            }
+            Geometry::Sphere { radius } => {
+                let m = to_world.matrix3;
+                let scale = (m.x_axis.length() * m.y_axis.length() * m.z_axis.length()).cbrt();
+                4.0 * PI * (radius * scale).powi(2)
+            }
+            Geometry::Plane { .. } => f32::INFINITY,
+        }
+    }
+}
+
+/// A shape that emits: one-sided, from the side its normals face.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AreaLightDesc {
-    pub l: Vec3,
-    pub gain: f32,
-    /// Watts; with `efficacy` (lm/W) > 0 both, LuxRender scales L so that the emitter's
-    /// flux is power * efficacy: gain *= power * efficacy / (pi * area * luminance(L)).
-    pub power: f32,
-    pub efficacy: f32,
+    /// Emitted radiance (W m^-2 sr^-1 per RGB channel), uniform over the surface.
+    pub radiance: Vec3,
 }
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightDesc {
-    /// Radiant intensity `intensity` (L * gain) at `position`.
+    /// Radiant intensity `intensity` (W sr^-1) from `position`, the same in every direction.
     Point { position: Vec3, intensity: Vec3 },
     Spot {
         position: Vec3,
@@ -291,4 +338,17 @@ pub enum LightDesc {
         map: Option<TextureId>,
         light_to_world: Mat4,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locations_show_the_column_where_there_is_one() {
+        let mut at = Location::line("scene.xml", 12);
+        assert_eq!(at.to_string(), "scene.xml:12");
+        at.column = Some(7);
+        assert_eq!(at.to_string(), "scene.xml:12:7");
+    }
 }

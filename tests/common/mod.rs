@@ -9,10 +9,7 @@ use foton::scene::desc::*;
 use glam::{Mat4, Vec3};
 
 pub fn location() -> Location {
-    Location {
-        file: PathBuf::from("test"),
-        line: 1,
-    }
+    Location::line("test", 1)
 }
 
 /// A camera at `eye` looking at `target`, z up, as `LookAt` makes it.
@@ -44,8 +41,8 @@ pub fn empty_scene(camera: CameraDesc, width: u32, height: u32) -> SceneDesc {
 }
 
 pub fn matte(scene: &mut SceneDesc, albedo: Vec3) -> MaterialId {
-    scene.materials.push(MaterialDesc::Matte {
-        kd: ColorParam::Constant(albedo),
+    scene.materials.push(MaterialDesc::Diffuse {
+        reflectance: ColorParam::Constant(albedo),
     });
     scene.materials.len() - 1
 }
@@ -81,13 +78,8 @@ pub fn quad(
     });
 }
 
-pub fn emitter(l: Vec3) -> AreaLightDesc {
-    AreaLightDesc {
-        l,
-        gain: 1.0,
-        power: 0.0,
-        efficacy: 0.0,
-    }
+pub fn emitter(radiance: Vec3) -> AreaLightDesc {
+    AreaLightDesc { radiance }
 }
 
 /// A small closed Cornell-style box with a diffuse sphere, a glass sphere, a metal sphere,
@@ -100,16 +92,16 @@ pub fn test_box() -> SceneDesc {
     );
     let white = matte(&mut scene, Vec3::splat(0.7));
     let red = matte(&mut scene, Vec3::new(0.6, 0.1, 0.1));
-    scene.materials.push(MaterialDesc::Glass {
-        kr: ColorParam::Constant(Vec3::ONE),
-        kt: ColorParam::Constant(Vec3::ONE),
-        index: 1.5,
+    scene.materials.push(MaterialDesc::Dielectric {
+        reflectance: ColorParam::Constant(Vec3::ONE),
+        transmittance: ColorParam::Constant(Vec3::ONE),
+        ior: 1.5,
     });
     let glass = scene.materials.len() - 1;
-    scene.materials.push(MaterialDesc::Metal {
-        kr: ColorParam::Constant(Vec3::splat(0.9)),
-        u_roughness: 0.1,
-        v_roughness: 0.1,
+    scene.materials.push(MaterialDesc::RoughConductor {
+        specular: ColorParam::Constant(Vec3::splat(0.9)),
+        alpha_u: 0.1,
+        alpha_v: 0.1,
     });
     let metal = scene.materials.len() - 1;
     scene.materials.push(MaterialDesc::Null);

@@ -1,10 +1,47 @@
 //! `LightSource` and `AreaLightSource`: positions and directions go through the CTM.
 
+use std::f32::consts::PI;
+
 use glam::Vec3;
 
 use super::params::ParamList;
 use super::parser::Parser;
-use crate::scene::desc::{AreaLightDesc, LightDesc, SceneError};
+use crate::film::luminance;
+use crate::scene::desc::{AreaLightDesc, LightDesc, SceneError, ShapeDesc};
+
+/// `AreaLightSource "area"` as written; it becomes a radiance once the shape's area is known.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct AreaLight {
+    l: Vec3,
+    gain: f32,
+    power: f32,
+    efficacy: f32,
+}
+
+impl AreaLight {
+    /// The radiance L * gain, where `power` (W) and `efficacy` (lm/W) scale the gain so that the
+    /// emitter's luminous flux is power * efficacy: a one-sided Lambertian emitter of radiance L
+    /// and area A emits pi A Y(L), so gain *= power * efficacy / (pi A Y(L)) (LuxRender 1.x
+    /// `lights/area.cpp`).
+    pub(super) fn radiance(&self, shape: &ShapeDesc) -> AreaLightDesc {
+        let flux_per_gain = PI * shape.surface_area() * luminance(self.l);
+        AreaLightDesc {
+            radiance: self.l * (self.gain * power_factor(self.power, self.efficacy, flux_per_gain)),
+        }
+    }
+}
+
+/// LuxRender's gain factor from `power` and `efficacy`: the luminous flux asked for over the
+/// flux the light emits at gain 1; 1 (no scaling) when that is not positive and finite, as
+/// when either is 0 (what LuxBlend writes when no power is set).
+fn power_factor(power: f32, efficacy: f32, flux_per_gain: f32) -> f32 {
+    let factor = power * efficacy / flux_per_gain;
+    if factor > 0.0 && factor.is_finite() {
+        factor
+    } else {
+        1.0
+    }
+}
 
 impl Parser {
     pub(super) fn light(
@@ -14,7 +51,9 @@ impl Parser {
         params: &mut ParamList,
     ) -> Result<(), SceneError> {
         let ctm = self.state.ctm;
-        let scale = params.vec3("L")?.unwrap_or(Vec3::ONE) * params.float("gain")?.unwrap_or(1.0);
+        let l = params.vec3("L")?.unwrap_or(Vec3::ONE);
+        let gain = params.float("gain")?.unwrap_or(1.0);
+        let scale = l * gain;
         let from = params.vec3("from")?.unwrap_or(Vec3::ZERO);
         let to = params.vec3("to")?.unwrap_or(Vec3::Z);
         let direction = |from: Vec3, to: Vec3| {
@@ -27,10 +66,15 @@ impl Parser {
                     )
                 })
         };
+        let power = params.float("power")?.unwrap_or(0.0);
+        let efficacy = params.float("efficacy")?.unwrap_or(0.0);
         let light = match kind {
+            // An isotropic point light of intensity I emits 4 pi I; power * efficacy asks for a
+            // luminous flux, so gain *= power * efficacy / (4 pi Y(L)) (LuxRender 1.x
+            // `lights/pointlight.cpp`).
             "point" => LightDesc::Point {
                 position: ctm.transform_point3(from),
-                intensity: scale,
+                intensity: l * (gain * power_factor(power, efficacy, 4.0 * PI * luminance(l))),
             },
             "spot" => LightDesc::Spot {
                 position: ctm.transform_point3(from),
@@ -64,9 +108,6 @@ impl Parser {
                 return Ok(());
             }
         };
-        // LuxBlend writes "power" and "efficacy" 0 for point lights; they only matter for area lights.
-        params.float("power")?;
-        params.float("efficacy")?;
         self.scene.lights.push(light);
         Ok(())
     }
@@ -84,7 +125,7 @@ impl Parser {
                 format!("AreaLightSource \"{kind}\" unsupported: read as \"area\""),
             );
         }
-        self.state.area_light = Some(AreaLightDesc {
+        self.state.area_light = Some(AreaLight {
             l: params.vec3("L")?.unwrap_or(Vec3::ONE),
             gain: params.float("gain")?.unwrap_or(1.0),
             power: params.float("power")?.unwrap_or(0.0),

@@ -4,13 +4,31 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
-use super::images;
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
 use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
+use crate::scene::io::image;
 
 /// LuxRender's default diffuse grey, also what unknown materials become.
 const GREY: Vec3 = Vec3::splat(0.5);
+
+/// metal2's `uroughness`/`vroughness` as GGX alpha.
+///
+/// LuxRender 1.x's metal2 (`materials/metal2.cpp`, LuxRender/Lux on GitHub) builds
+/// `SchlickDistribution(u * v, anisotropy)`, and
+/// `core/reflection/microfacetdistribution/schlickdistribution.h` defines
+/// D = Z(cos) A(phi) / pi with Z(t) = r / (1 + (r - 1) t^2)^2, r = u v.
+/// Isotropic GGX is D = alpha^2 / (pi (1 + (alpha^2 - 1) cos^2)^2) (Walter et al. 2007, eq. 33
+/// rewritten in cos): the same function with r = alpha^2. So alpha = roughness exactly for
+/// u = v, and alpha_u = u, alpha_v = v keeps alpha_u alpha_v = r and the wider lobe along the
+/// larger roughness (Schlick's A(phi) shapes the anisotropy differently).
+///
+/// (The Blinn mapping exponent = 1 / roughness is that of LuxRender's older `metal`,
+/// `shinymetal`, `plastic`, `roughglass` (pbrt-v1 heritage), whose GGX/Beckmann match would be
+/// alpha = sqrt(2 / (e + 2)), Walter et al. 2007; it does not apply to metal2.)
+fn metal2_alpha(roughness: f32) -> f32 {
+    roughness
+}
 
 impl Parser {
     pub(super) fn material(
@@ -29,17 +47,17 @@ impl Parser {
                         format!("matte: sigma {sigma} (Oren-Nayar) unsupported: Lambertian"),
                     );
                 }
-                MaterialDesc::Matte {
-                    kd: self.color_param(params, "Kd", GREY, line)?,
+                MaterialDesc::Diffuse {
+                    reflectance: self.color_param(params, "Kd", GREY, line)?,
                 }
             }
             "mirror" => MaterialDesc::Mirror {
-                kr: self.color_param(params, "Kr", Vec3::ONE, line)?,
+                reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
             },
-            "glass" => MaterialDesc::Glass {
-                kr: self.color_param(params, "Kr", Vec3::ONE, line)?,
-                kt: self.color_param(params, "Kt", Vec3::ONE, line)?,
-                index: params.float("index")?.unwrap_or(1.5),
+            "glass" => MaterialDesc::Dielectric {
+                reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
+                transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
+                ior: params.float("index")?.unwrap_or(1.5),
             },
             "metal2" => {
                 let kr = self.color_param(params, "Kr", Vec3::ONE, line)?;
@@ -53,10 +71,10 @@ impl Parser {
                     );
                 }
                 let default = both.unwrap_or(0.1);
-                MaterialDesc::Metal {
-                    kr,
-                    u_roughness: u.unwrap_or(default),
-                    v_roughness: v.unwrap_or(default),
+                MaterialDesc::RoughConductor {
+                    specular: kr,
+                    alpha_u: metal2_alpha(u.unwrap_or(default)),
+                    alpha_v: metal2_alpha(v.unwrap_or(default)),
                 }
             }
             "null" => MaterialDesc::Null,
@@ -84,8 +102,8 @@ impl Parser {
                     format!("material type \"{kind}\" unsupported: grey matte"),
                 );
                 params.ignore_all();
-                MaterialDesc::Matte {
-                    kd: ColorParam::Constant(GREY),
+                MaterialDesc::Diffuse {
+                    reflectance: ColorParam::Constant(GREY),
                 }
             }
         })
@@ -202,7 +220,7 @@ impl Parser {
         what: &str,
     ) -> Result<usize, SceneError> {
         let path = self.resolve(filename, line, what)?;
-        let image = images::decode(&path, gamma, gain).map_err(|e| {
+        let decoded = image::decode(&path, gamma, gain).map_err(|e| {
             self.error(
                 line,
                 format!("{what}: cannot decode {}: {e}", path.display()),
@@ -211,9 +229,9 @@ impl Parser {
         self.scene.textures.push(ImageTexture {
             name: name.to_string(),
             path,
-            width: image.width,
-            height: image.height,
-            texels: Arc::new(image.texels),
+            width: decoded.width,
+            height: decoded.height,
+            texels: Arc::new(decoded.texels),
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
         });

@@ -2,13 +2,11 @@
 //! as the course's scenes extend it.
 
 mod camera;
-mod images;
 mod lights;
 mod materials;
 mod params;
 mod parser;
 mod paths;
-mod ply;
 mod shapes;
 mod tokenizer;
 

@@ -294,10 +294,7 @@ impl ParamList {
     }
 
     fn location(&self, line: usize) -> Location {
-        Location {
-            file: self.file.clone(),
-            line,
-        }
+        Location::line(&self.file, line)
     }
 
     /// The last parameter called `name`, marked as used.

@@ -6,12 +6,11 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 
+use super::lights::AreaLight;
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
-use crate::scene::desc::{
-    AreaLightDesc, ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning,
-};
+use crate::scene::desc::{ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning};
 
 /// What `AttributeBegin`/`AttributeEnd` save and restore.
 #[derive(Clone, Debug)]
@@ -19,7 +18,7 @@ pub(super) struct GraphicsState {
     /// The current transformation matrix: object (or light) space to world.
     pub ctm: Mat4,
     pub material: Option<MaterialId>,
-    pub area_light: Option<AreaLightDesc>,
+    pub area_light: Option<AreaLight>,
     pub reverse_orientation: bool,
 }
 
@@ -81,18 +80,12 @@ impl Parser {
             include_chain: Vec::new(),
             named_materials: HashMap::new(),
             named_textures: HashMap::new(),
-            scene: SceneDesc::empty(Location {
-                file: path.to_path_buf(),
-                line: 0,
-            }),
+            scene: SceneDesc::empty(Location::line(path, 0)),
         }
     }
 
     pub fn location(&self, line: usize) -> Location {
-        Location {
-            file: self.file.clone(),
-            line,
-        }
+        Location::line(&self.file, line)
     }
 
     pub fn error(&self, line: usize, message: impl Into<String>) -> SceneError {
@@ -130,10 +123,7 @@ impl Parser {
     fn read_file(&mut self, path: &Path) -> Result<(), SceneError> {
         let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
         let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            location: Location {
-                file: path.to_path_buf(),
-                line: 0,
-            },
+            location: Location::line(path, 0),
             message: format!("cannot read: {e}"),
         })?;
         let outer_file = std::mem::replace(&mut self.file, path.to_path_buf());

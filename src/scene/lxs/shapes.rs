@@ -4,8 +4,8 @@ use glam::{Vec2, Vec3};
 
 use super::params::ParamList;
 use super::parser::Parser;
-use super::ply;
 use crate::scene::desc::{Geometry, SceneError, ShapeDesc};
+use crate::scene::io::ply;
 
 impl Parser {
     /// Adds a shape with the current transform, material and area light.
@@ -67,13 +67,15 @@ impl Parser {
         } else {
             geometry
         };
-        self.scene.shapes.push(ShapeDesc {
+        let mut shape = ShapeDesc {
             geometry,
             object_to_world: self.state.ctm,
             material: self.state.material,
-            area_light: self.state.area_light,
+            area_light: None,
             location: self.location(line),
-        });
+        };
+        shape.area_light = self.state.area_light.map(|light| light.radiance(&shape));
+        self.scene.shapes.push(shape);
         Ok(())
     }
 

@@ -43,10 +43,7 @@ fn is_delimiter(c: char) -> bool {
 
 pub fn tokenize(file: &Path, text: &str) -> Result<Vec<Token>, SceneError> {
     let error = |line: usize, message: String| SceneError {
-        location: Location {
-            file: file.to_path_buf(),
-            line,
-        },
+        location: Location::line(file, line),
         message,
     };
     let mut tokens = Vec::new();

@@ -1,4 +1,4 @@
-//! Reading `Shape "plymesh"` files: positions, optional normals and uv, polygons fanned into
+//! PLY meshes (ASCII and binary): positions, optional normals and uv, polygons fanned into
 //! triangles.
 
 use std::fs::File;
