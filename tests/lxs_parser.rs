@@ -8,6 +8,7 @@ use foton::scene::desc::{
     ToneMap,
 };
 use foton::scene::lxs::load;
+use foton::texture::{TexParam, TextureNode};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// A fresh, empty folder for one test.
@@ -606,14 +607,16 @@ fn course_texture_dialect_loads_with_warnings() {
 }
 
 #[test]
-fn constant_and_unsupported_textures() {
+fn constant_procedural_and_unsupported_textures() {
     let s = scene(
         "constant_texture",
         "WorldBegin\n\
          Texture \"c\" \"color\" \"constant\" \"color value\" [0.2 0.4 0.6]\n\
-         Texture \"s\" \"color\" \"scale\" \"texture tex1\" [\"c\"]\n\
+         Texture \"s\" \"color\" \"scale\" \"texture tex1\" [\"c\"] \"float tex2\" [0.5]\n\
+         Texture \"b\" \"color\" \"brick\"\n\
          MakeNamedMaterial \"a\" \"texture Kd\" [\"c\"] \"string type\" [\"matte\"]\n\
-         MakeNamedMaterial \"b\" \"texture Kd\" [\"s\"] \"string type\" [\"matte\"]\nWorldEnd\n",
+         MakeNamedMaterial \"b\" \"texture Kd\" [\"s\"] \"string type\" [\"matte\"]\n\
+         MakeNamedMaterial \"c\" \"texture Kd\" [\"b\"] \"string type\" [\"matte\"]\nWorldEnd\n",
     );
     assert_eq!(
         s.materials[0],
@@ -621,8 +624,22 @@ fn constant_and_unsupported_textures() {
             reflectance: ColorParam::Constant(Vec3::new(0.2, 0.4, 0.6))
         }
     );
+    // `scale` is a graph node multiplying its inputs (a constant texture is inlined).
     assert_eq!(
         s.materials[1],
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Texture(0)
+        }
+    );
+    assert_eq!(
+        s.texture_graph.nodes[0],
+        TextureNode::Scale {
+            tex1: TexParam::Value(Vec3::new(0.2, 0.4, 0.6)),
+            tex2: TexParam::Value(Vec3::splat(0.5)),
+        }
+    );
+    assert_eq!(
+        s.materials[2],
         MaterialDesc::Diffuse {
             reflectance: ColorParam::Constant(Vec3::splat(0.5))
         }
@@ -631,7 +648,7 @@ fn constant_and_unsupported_textures() {
     assert!(
         s.warnings[0]
             .message
-            .contains("class \"scale\" unsupported")
+            .contains("class \"brick\" unsupported")
     );
 }
 

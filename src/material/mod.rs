@@ -4,9 +4,10 @@
 pub mod texture;
 
 use bevy_ecs::prelude::*;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use crate::bsdf::Bsdf;
+use crate::texture::ShadingPoint;
 use texture::TextureTable;
 
 /// Mixes nest at most this deep; deeper chains (only a cycle makes one) resolve to black matte.
@@ -74,18 +75,18 @@ impl MaterialTable {
         })
     }
 
-    /// The BSDF of material `id` at `uv`; `None` for `null` (the ray passes through).
+    /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
     /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one).
     pub fn bsdf_at(
         &self,
         id: u32,
-        uv: Vec2,
+        sp: &ShadingPoint,
         textures: Option<&TextureTable>,
         mut choice: f32,
     ) -> Option<Bsdf> {
         let color = |c: &Color| match (c, textures) {
             (Color::Constant(c), _) => *c,
-            (Color::Texture(t), Some(table)) => table.lookup(*t, uv),
+            (Color::Texture(t), Some(table)) => table.lookup(*t, sp),
             (Color::Texture(_), None) => Vec3::splat(0.5),
         };
         let mut id = id as usize;

@@ -229,6 +229,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     if uses_textures {
         world.insert_resource(TextureTable {
             textures: desc.textures.iter().map(image_texture).collect(),
+            graph: desc.texture_graph.clone(),
         });
     }
     world.insert_resource(GeometryNeeds { uvs: uses_textures });

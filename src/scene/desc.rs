@@ -14,6 +14,8 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
+pub use crate::texture::TextureGraph;
+
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
 /// a 1-based column. Displayed as `file:line` or `file:line:column`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -82,7 +84,11 @@ pub struct SceneDesc {
     /// `SurfaceIntegrator "maxdepth"` or `"eyedepth"`, if given.
     pub max_depth: Option<u32>,
     pub filter: FilterDesc,
+    /// Decoded images, referred to by the texture graph's image nodes and by lights.
     pub textures: Vec<ImageTexture>,
+    /// The scene's textures (procedural, composite, image lookups); a
+    /// [`ColorParam::Texture`] names one of its nodes.
+    pub texture_graph: TextureGraph,
     pub materials: Vec<MaterialDesc>,
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
@@ -119,6 +125,7 @@ impl SceneDesc {
                 radius: Vec2::splat(0.5),
             },
             textures: Vec::new(),
+            texture_graph: TextureGraph::default(),
             materials: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
@@ -216,7 +223,7 @@ pub struct ImageTexture {
 pub type TextureId = usize;
 pub type MaterialId = usize;
 
-/// A colour parameter: a constant or an image texture.
+/// A colour parameter: a constant or a node of the scene's texture graph.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ColorParam {
     Constant(Vec3),

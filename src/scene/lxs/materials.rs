@@ -8,6 +8,7 @@ use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
 use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
 use crate::scene::io::image;
+use crate::texture::{Mapping2D, TextureNode};
 
 /// LuxRender's default diffuse grey, also what unknown materials become.
 const GREY: Vec3 = Vec3::splat(0.5);
@@ -110,7 +111,7 @@ impl Parser {
     }
 
     /// A colour or a reference to a texture defined earlier.
-    fn color_param(
+    pub(super) fn color_param(
         &self,
         params: &mut ParamList,
         name: &str,
@@ -157,8 +158,11 @@ impl Parser {
         };
         let texture = match class {
             "imagemap" => {
-                let id = self.image_texture(&name, line, params)?;
-                ColorParam::Texture(id)
+                let image = self.image_texture(&name, line, params)?;
+                ColorParam::Texture(self.scene.texture_graph.push(TextureNode::Image {
+                    image,
+                    mapping: Mapping2D::default(),
+                }))
             }
             "constant" => match params.color("value")? {
                 Some(ColorSource::Rgb(rgb)) => ColorParam::Constant(rgb),
@@ -169,14 +173,17 @@ impl Parser {
                     ));
                 }
             },
-            _ => {
-                self.warn(
-                    line,
-                    format!("Texture \"{name}\": class \"{class}\" unsupported: constant grey"),
-                );
-                params.ignore_all();
-                ColorParam::Constant(GREY)
-            }
+            _ => match self.procedural_texture(class, line, params)? {
+                Some(node) => ColorParam::Texture(self.scene.texture_graph.push(node)),
+                None => {
+                    self.warn(
+                        line,
+                        format!("Texture \"{name}\": class \"{class}\" unsupported: constant grey"),
+                    );
+                    params.ignore_all();
+                    ColorParam::Constant(GREY)
+                }
+            },
         };
         self.named_textures.insert(name, texture);
         Ok(())
