@@ -225,7 +225,7 @@ fn non_delta_bsdfs() -> Vec<Bsdf> {
             Vec3::new(0.5, 1.0, 2.0),
             0.2,
         ),
-        glossy(Vec3::ONE, coating_f0(Vec3::ZERO, 1.5), 0.5, Vec3::ZERO, 0.0),
+        glossy(Vec3::ONE, coating_f0(Vec3::ONE, 1.5), 0.5, Vec3::ZERO, 0.0),
     ]
 }
 
@@ -653,7 +653,13 @@ fn coated_glossy_energy() {
         }
     }
     assert!(
-        (coating_f0(Vec3::splat(0.3), 1.5) - Vec3::splat(0.04))
+        (coating_f0(Vec3::ONE, 1.5) - Vec3::splat(0.04))
+            .abs()
+            .max_element()
+            < 1e-7
+    );
+    assert!(
+        (coating_f0(Vec3::splat(0.5), 1.5) - Vec3::splat(0.02))
             .abs()
             .max_element()
             < 1e-7

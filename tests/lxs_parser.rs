@@ -422,8 +422,9 @@ fn materials_of_every_kind() {
                 second: 1,
                 amount: 0.25
             },
+            // LuxRender's matte default Kd (`materials/matte.cpp`).
             MaterialDesc::Diffuse {
-                reflectance: c(0.5, 0.5, 0.5)
+                reflectance: c(0.9, 0.9, 0.9)
             },
         ]
     );
@@ -456,17 +457,20 @@ fn material_quirks_warn() {
             reflectance: ColorParam::Constant(Vec3::splat(0.5))
         }
     );
-    let w = messages(&s);
-    assert_eq!(w.len(), 4, "{w:?}");
-    assert!(
-        w[0].ends_with(
-            "scene.lxs:2: warning: matte: sigma 20 (Oren-Nayar) unsupported: Lambertian"
-        )
+    // matte's sigma is Oren-Nayar's, in degrees, with LuxRender's default Kd 0.9.
+    assert_eq!(
+        s.materials[0],
+        MaterialDesc::RoughDiffuse {
+            reflectance: ColorParam::Constant(Vec3::splat(0.9)),
+            sigma_degrees: 20.0,
+        }
     );
-    assert!(w[1].contains(":3: warning: metal2: \"roughness\" ignored"));
-    assert!(w[2].contains(":4: warning: material type \"carpaint\" unsupported: grey matte"));
+    let w = messages(&s);
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert!(w[0].contains(":3: warning: metal2: \"roughness\" ignored"));
+    assert!(w[1].contains(":4: warning: material type \"carpaint\" unsupported: grey matte"));
     assert!(
-        w[3].contains(":5: warning: Material \"glass\": unknown parameter \"float bogus\" ignored")
+        w[2].contains(":5: warning: Material \"glass\": unknown parameter \"float bogus\" ignored")
     );
 }
 

@@ -8,7 +8,7 @@
 //! Z(t) = r / (1 + (r - 1) t^2)^2 Schlick's facet distribution (r the roughness),
 //! G(c) = c / (c (1 - r) + r) Schlick's shadowing, and a = exp(-Ka d (1 / cos_i + 1 / cos_o))
 //! the absorption of a coating of depth d crossed twice. LuxRender's `index`, when positive,
-//! replaces Ks by ((n - 1) / (n + 1))^2 (see [`coating_f0`]).
+//! scales Ks by ((n - 1) / (n + 1))^2 (see [`coating_f0`]).
 //!
 //! foton's version is isotropic (LuxRender's `uroughness` x `vroughness` gives r; the
 //! anisotropy term A(phi) is left at 1) and samples its own way (below), with a pdf that
@@ -33,14 +33,15 @@ pub struct CoatedGlossy {
 /// The smallest roughness: keeps Z's peak, 1 / r, finite.
 const ROUGHNESS_MIN: f32 = 1e-4;
 
-/// The coating's reflectance at normal incidence: Ks, or ((n - 1) / (n + 1))^2 for an index
-/// n > 0 (`glossy2.cpp`: "if index > 0, Ks = ((index - 1) / (index + 1))^2").
+/// The coating's reflectance at normal incidence: Ks, times ((n - 1) / (n + 1))^2 for an
+/// index n > 0 (`glossy2.cpp`: `if (i > 0) s *= ((i - 1) / (i + 1))^2`), clamped to [0, 1].
 pub fn coating_f0(ks: Vec3, index: f32) -> Vec3 {
-    if index > 0.0 && index.is_finite() {
-        Vec3::splat(((index - 1.0) / (index + 1.0)).powi(2))
+    let f0 = if index > 0.0 && index.is_finite() {
+        ks * ((index - 1.0) / (index + 1.0)).powi(2)
     } else {
         ks
-    }
+    };
+    f0.clamp(Vec3::ZERO, Vec3::ONE)
 }
 
 /// The half vector h of two unit vectors and wo . h = wi . h. The cosine is |wo + wi| / 2

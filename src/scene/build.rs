@@ -8,6 +8,7 @@ use super::desc::{
     ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, Projection, SceneDesc,
     ToneMap,
 };
+use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::camera::equirectangular::Equirectangular;
 use crate::camera::fisheye::{Fisheye, FisheyeFit};
 use crate::camera::orthographic::Orthographic;
@@ -343,6 +344,30 @@ fn material(desc: &MaterialDesc) -> Material {
     match desc {
         MaterialDesc::Diffuse { reflectance } => Material::Lambertian {
             reflectance: color(reflectance),
+        },
+        MaterialDesc::RoughDiffuse {
+            reflectance,
+            sigma_degrees,
+        } => {
+            let (a, b) = oren_nayar_ab(*sigma_degrees);
+            Material::OrenNayar {
+                reflectance: color(reflectance),
+                a,
+                b,
+            }
+        }
+        MaterialDesc::CoatedDiffuse {
+            diffuse,
+            specular,
+            absorption,
+            depth,
+            roughness,
+        } => Material::CoatedGlossy {
+            diffuse: color(diffuse),
+            specular: color(specular),
+            absorption: color(absorption),
+            depth: *depth,
+            roughness: *roughness,
         },
         MaterialDesc::Mirror { reflectance } => Material::SpecularReflection {
             reflectance: color(reflectance),

@@ -235,6 +235,22 @@ pub enum ColorParam {
 pub enum MaterialDesc {
     /// Lambertian reflection.
     Diffuse { reflectance: ColorParam },
+    /// Oren-Nayar rough diffuse reflection; `sigma_degrees`: the standard deviation of the
+    /// facet slope angle.
+    RoughDiffuse {
+        reflectance: ColorParam,
+        sigma_degrees: f32,
+    },
+    /// A diffuse base under a glossy dielectric coating (Schlick's coated model):
+    /// `specular` the coating's reflectance at normal incidence, `absorption` and `depth` its
+    /// absorption coefficient and thickness, `roughness` Schlick's r (GGX alpha^2).
+    CoatedDiffuse {
+        diffuse: ColorParam,
+        specular: ColorParam,
+        absorption: ColorParam,
+        depth: f32,
+        roughness: f32,
+    },
     /// A perfect mirror: `reflectance` at every angle, no Fresnel falloff.
     Mirror { reflectance: ColorParam },
     /// A smooth dielectric interface: `ior` inside over outside (the normal points outside);

@@ -36,7 +36,7 @@ impl Parser {
                 params.string("aamode")?;
                 match params.int("dimension")?.unwrap_or(2) {
                     3 => TextureNode::Checkerboard3D {
-                        mapping: self.mapping_3d(params, line)?,
+                        mapping: self.mapping_3d(params, line, true)?,
                         tex1,
                         tex2,
                     },
@@ -87,22 +87,23 @@ impl Parser {
             "fbm" => TextureNode::Fbm {
                 octaves: octaves(params)?,
                 roughness: params.float("roughness")?.unwrap_or(0.5),
-                mapping: self.mapping_3d(params, line)?,
+                mapping: self.mapping_3d(params, line, true)?,
             },
             "wrinkled" => TextureNode::Wrinkled {
                 octaves: octaves(params)?,
                 roughness: params.float("roughness")?.unwrap_or(0.5),
-                mapping: self.mapping_3d(params, line)?,
+                mapping: self.mapping_3d(params, line, true)?,
             },
             "windy" => TextureNode::Windy {
-                mapping: self.mapping_3d(params, line)?,
+                mapping: self.mapping_3d(params, line, true)?,
             },
+            // Marble's own `float scale` takes the name of the mappings' `vector scale`.
             "marble" => TextureNode::Marble {
                 octaves: octaves(params)?,
                 roughness: params.float("roughness")?.unwrap_or(0.5),
                 scale: params.float("scale")?.unwrap_or(1.0),
                 variation: params.float("variation")?.unwrap_or(0.2),
-                mapping: self.mapping_3d(params, line)?,
+                mapping: self.mapping_3d(params, line, false)?,
             },
             "blackbody" => TextureNode::blackbody(params.float("temperature")?.unwrap_or(6500.0)),
             "harlequin" => TextureNode::Harlequin,
@@ -161,11 +162,22 @@ impl Parser {
     }
 
     /// LuxRender's 3D mappings (`TextureMapping3D`): `coordinates` "global" (default) or "uv",
-    /// with `scale`, `rotate` (degrees) and `translate` applied in texture space.
-    fn mapping_3d(&mut self, params: &mut ParamList, line: usize) -> Result<Mapping3D, SceneError> {
+    /// with `scale` (when `vector_scale`), `rotate` (degrees) and `translate` applied in texture
+    /// space.
+    fn mapping_3d(
+        &mut self,
+        params: &mut ParamList,
+        line: usize,
+        vector_scale: bool,
+    ) -> Result<Mapping3D, SceneError> {
+        let scale = if vector_scale {
+            params.vec3("scale")?.unwrap_or(Vec3::ONE)
+        } else {
+            Vec3::ONE
+        };
         let world_to_texture = Mapping3D::world_to_texture(
             Affine3A::from_mat4(self.state.ctm),
-            params.vec3("scale")?.unwrap_or(Vec3::ONE),
+            scale,
             params.vec3("rotate")?.unwrap_or(Vec3::ZERO),
             params.vec3("translate")?.unwrap_or(Vec3::ZERO),
         );
