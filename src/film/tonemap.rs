@@ -13,6 +13,16 @@ pub enum ToneMap {
     AutoLinear,
     /// A fixed scale.
     Linear { scale: f32 },
+    /// LuxRender's `reinhard`: Reinhard et al. 2002's global operator.
+    Reinhard {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
+    /// LuxRender's `contrast`: Ward 1994, `ywa` the display adaptation luminance.
+    Contrast { ywa: f32 },
+    /// LuxRender's `maxwhite`: the brightest pixel to white.
+    MaxWhite,
 }
 
 /// Luminance Y of linear Rec.709/sRGB: the Y row of the sRGB-to-XYZ matrix (D65), with the
@@ -26,7 +36,29 @@ pub fn exposure_scale(tonemap: ToneMap, pixels: &[Vec3], gamma: f32) -> f32 {
     match tonemap {
         ToneMap::Linear { scale } => scale,
         ToneMap::AutoLinear => autolinear_scale(pixels, gamma),
+        // Applied per pixel by [`apply_display_tone_map`].
+        ToneMap::Reinhard { .. } | ToneMap::Contrast { .. } | ToneMap::MaxWhite => 1.0,
     }
+}
+
+/// Applies the per-pixel kernels (`reinhard`, `contrast`, `maxwhite`) to an image bound for an
+/// 8-bit display; the linear ones are [`exposure_scale`]'s.
+pub fn apply_display_tone_map(tonemap: ToneMap, pixels: &mut [Vec3], gamma: f32) {
+    let op = match tonemap {
+        ToneMap::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        } => ToneMapOp::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        },
+        ToneMap::Contrast { ywa } => ToneMapOp::Contrast { ywa },
+        ToneMap::MaxWhite => ToneMapOp::MaxWhite,
+        ToneMap::AutoLinear | ToneMap::Linear { .. } => return,
+    };
+    op.apply(pixels, gamma);
 }
 
 /// LuxRender 1.x's `autolinear` (lux tonemaps/lineartonemap.cpp, `EVOp`, registered as
@@ -112,16 +144,15 @@ impl ToneMapOp {
                 let s = exposure_scale(ToneMap::AutoLinear, pixels, gamma);
                 pixels.iter_mut().for_each(|p| *p *= s);
             }
-            // `tonemaps/lineartonemap.cpp`: a camera's exposure: factor = exposure / fstop^2
-            // x sensitivity / 10 x (118/255)^gamma, so that a scene of mean luminance
-            // 10 fstop^2 / (exposure sensitivity) lands on 118/255 after gamma.
+            // `tonemaps/lineartonemap.h` (LuxRender 1.x, "taken from the ISO speed article"):
+            // factor = exposure / fstop^2 x sensitivity x 0.65 / 10 x (118/255)^gamma.
             ToneMapOp::Linear {
                 sensitivity,
                 exposure,
                 fstop,
                 gamma,
             } => {
-                let s = exposure / (fstop * fstop) * sensitivity / 10.0
+                let s = exposure / (fstop * fstop) * sensitivity * 0.65 / 10.0
                     * (118.0f32 / 255.0).powf(gamma);
                 let s = if s.is_finite() { s } else { 1.0 };
                 pixels.iter_mut().for_each(|p| *p *= s);
@@ -278,7 +309,7 @@ mod tests {
             gamma: 2.2,
         }
         .apply(&mut p, 2.2);
-        let expected = 1e-3 / 7.84 * 10.0 * (118.0f32 / 255.0).powf(2.2);
+        let expected = 1e-3 / 7.84 * 100.0 * 0.65 / 10.0 * (118.0f32 / 255.0).powf(2.2);
         assert!((p[0].x / expected - 1.0).abs() < 1e-5, "{}", p[0].x);
         // Contrast: a scene whose log-average equals the display adaptation luminance is
         // scaled by 1 / 100 (the display maximum).

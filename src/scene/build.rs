@@ -418,5 +418,16 @@ pub fn tone_map(desc: ToneMap) -> film::ToneMap {
     match desc {
         ToneMap::AutoLinear => film::ToneMap::AutoLinear,
         ToneMap::Linear { scale } => film::ToneMap::Linear { scale },
+        ToneMap::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        } => film::ToneMap::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        },
+        ToneMap::Contrast { ywa } => film::ToneMap::Contrast { ywa },
+        ToneMap::MaxWhite => film::ToneMap::MaxWhite,
     }
 }

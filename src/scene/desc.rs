@@ -176,6 +176,16 @@ pub enum ToneMap {
     AutoLinear,
     /// `linear` (or any other kernel): a fixed scale.
     Linear { scale: f32 },
+    /// LuxRender's `reinhard`: Reinhard et al. 2002's global operator.
+    Reinhard {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
+    /// LuxRender's `contrast`: Ward 1994, `ywa` the display adaptation luminance.
+    Contrast { ywa: f32 },
+    /// LuxRender's `maxwhite`: the brightest pixel to white.
+    MaxWhite,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
