@@ -260,9 +260,23 @@ fn linear_tonemap_uses_luxrenders_exposure_formula() {
         "reinhard",
         &format!("Film \"fleximage\" \"string tonemapkernel\" [\"reinhard\"]\n{WORLD}"),
     );
+    // LuxRender's reinhard defaults (`tonemaps/reinhard.cpp`): prescale 1, postscale 1, burn 7.
+    assert_eq!(
+        s.film.tonemap,
+        ToneMap::Reinhard {
+            prescale: 1.0,
+            postscale: 1.0,
+            burn: 7.0
+        }
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let s = scene(
+        "drago",
+        &format!("Film \"fleximage\" \"string tonemapkernel\" [\"drago\"]\n{WORLD}"),
+    );
     assert_eq!(s.film.tonemap, ToneMap::Linear { scale: 1.0 });
     assert_eq!(s.warnings.len(), 1);
-    assert!(s.warnings[0].message.contains("reinhard"));
+    assert!(s.warnings[0].message.contains("drago"));
 }
 
 #[test]
@@ -286,7 +300,20 @@ fn pixel_filters_and_their_defaults() {
         (s.filter.kind, s.filter.radius),
         (FilterKind::BlackmanHarris, Vec2::splat(2.0))
     );
-    let s = filter("PixelFilter \"mitchell\" \"float xwidth\" [3]");
+    let s = filter("PixelFilter \"mitchell\" \"float xwidth\" [3] \"float B\" [0.75]");
+    assert_eq!(
+        (s.filter.kind, s.filter.radius),
+        (
+            FilterKind::Mitchell {
+                b: 0.75,
+                c: 1.0 / 3.0
+            },
+            Vec2::new(3.0, 2.0)
+        )
+    );
+    let s = filter("PixelFilter \"sinc\"");
+    assert_eq!(s.filter.kind, FilterKind::Sinc { tau: 3.0 });
+    let s = filter("PixelFilter \"catmullrom\" \"float xwidth\" [3]");
     assert_eq!(
         (s.filter.kind, s.filter.radius),
         (FilterKind::Box, Vec2::splat(0.5))

@@ -83,7 +83,7 @@ impl Parser {
             "glass" => MaterialDesc::Dielectric {
                 reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
                 transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
-                ior: params.float("index")?.unwrap_or(1.5),
+                ior: self.constant_float(params, "index", 1.5, line)?,
             },
             "metal2" => {
                 let kr = self.color_param(params, "Kr", Vec3::ONE, line)?;
