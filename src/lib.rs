@@ -13,3 +13,4 @@ pub mod sampling;
 pub mod scene;
 pub mod settings;
 pub mod shape;
+pub mod texture;

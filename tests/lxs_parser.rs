@@ -7,6 +7,7 @@ use foton::scene::desc::{
     ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, SceneDesc, SceneError, ToneMap,
 };
 use foton::scene::lxs::load;
+use foton::texture::{TexParam, TextureNode};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// A fresh, empty folder for one test.
@@ -229,9 +230,23 @@ fn linear_tonemap_uses_luxrenders_exposure_formula() {
         "reinhard",
         &format!("Film \"fleximage\" \"string tonemapkernel\" [\"reinhard\"]\n{WORLD}"),
     );
+    // LuxRender's reinhard defaults (`tonemaps/reinhard.cpp`): prescale 1, postscale 1, burn 7.
+    assert_eq!(
+        s.film.tonemap,
+        ToneMap::Reinhard {
+            prescale: 1.0,
+            postscale: 1.0,
+            burn: 7.0
+        }
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let s = scene(
+        "drago",
+        &format!("Film \"fleximage\" \"string tonemapkernel\" [\"drago\"]\n{WORLD}"),
+    );
     assert_eq!(s.film.tonemap, ToneMap::Linear { scale: 1.0 });
     assert_eq!(s.warnings.len(), 1);
-    assert!(s.warnings[0].message.contains("reinhard"));
+    assert!(s.warnings[0].message.contains("drago"));
 }
 
 #[test]
@@ -255,7 +270,20 @@ fn pixel_filters_and_their_defaults() {
         (s.filter.kind, s.filter.radius),
         (FilterKind::BlackmanHarris, Vec2::splat(2.0))
     );
-    let s = filter("PixelFilter \"mitchell\" \"float xwidth\" [3]");
+    let s = filter("PixelFilter \"mitchell\" \"float xwidth\" [3] \"float B\" [0.75]");
+    assert_eq!(
+        (s.filter.kind, s.filter.radius),
+        (
+            FilterKind::Mitchell {
+                b: 0.75,
+                c: 1.0 / 3.0
+            },
+            Vec2::new(3.0, 2.0)
+        )
+    );
+    let s = filter("PixelFilter \"sinc\"");
+    assert_eq!(s.filter.kind, FilterKind::Sinc { tau: 3.0 });
+    let s = filter("PixelFilter \"catmullrom\" \"float xwidth\" [3]");
     assert_eq!(
         (s.filter.kind, s.filter.radius),
         (FilterKind::Box, Vec2::splat(0.5))
@@ -391,8 +419,9 @@ fn materials_of_every_kind() {
                 second: 1,
                 amount: 0.25
             },
+            // LuxRender's matte default Kd (`materials/matte.cpp`).
             MaterialDesc::Diffuse {
-                reflectance: c(0.5, 0.5, 0.5)
+                reflectance: c(0.9, 0.9, 0.9)
             },
         ]
     );
@@ -425,17 +454,20 @@ fn material_quirks_warn() {
             reflectance: ColorParam::Constant(Vec3::splat(0.5))
         }
     );
-    let w = messages(&s);
-    assert_eq!(w.len(), 4, "{w:?}");
-    assert!(
-        w[0].ends_with(
-            "scene.lxs:2: warning: matte: sigma 20 (Oren-Nayar) unsupported: Lambertian"
-        )
+    // matte's sigma is Oren-Nayar's, in degrees, with LuxRender's default Kd 0.9.
+    assert_eq!(
+        s.materials[0],
+        MaterialDesc::RoughDiffuse {
+            reflectance: ColorParam::Constant(Vec3::splat(0.9)),
+            sigma_degrees: 20.0,
+        }
     );
-    assert!(w[1].contains(":3: warning: metal2: \"roughness\" ignored"));
-    assert!(w[2].contains(":4: warning: material type \"carpaint\" unsupported: grey matte"));
+    let w = messages(&s);
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert!(w[0].contains(":3: warning: metal2: \"roughness\" ignored"));
+    assert!(w[1].contains(":4: warning: material type \"carpaint\" unsupported: grey matte"));
     assert!(
-        w[3].contains(":5: warning: Material \"glass\": unknown parameter \"float bogus\" ignored")
+        w[2].contains(":5: warning: Material \"glass\": unknown parameter \"float bogus\" ignored")
     );
 }
 
@@ -576,14 +608,16 @@ fn course_texture_dialect_loads_with_warnings() {
 }
 
 #[test]
-fn constant_and_unsupported_textures() {
+fn constant_procedural_and_unsupported_textures() {
     let s = scene(
         "constant_texture",
         "WorldBegin\n\
          Texture \"c\" \"color\" \"constant\" \"color value\" [0.2 0.4 0.6]\n\
-         Texture \"s\" \"color\" \"scale\" \"texture tex1\" [\"c\"]\n\
+         Texture \"s\" \"color\" \"scale\" \"texture tex1\" [\"c\"] \"float tex2\" [0.5]\n\
+         Texture \"b\" \"color\" \"brick\"\n\
          MakeNamedMaterial \"a\" \"texture Kd\" [\"c\"] \"string type\" [\"matte\"]\n\
-         MakeNamedMaterial \"b\" \"texture Kd\" [\"s\"] \"string type\" [\"matte\"]\nWorldEnd\n",
+         MakeNamedMaterial \"b\" \"texture Kd\" [\"s\"] \"string type\" [\"matte\"]\n\
+         MakeNamedMaterial \"c\" \"texture Kd\" [\"b\"] \"string type\" [\"matte\"]\nWorldEnd\n",
     );
     assert_eq!(
         s.materials[0],
@@ -591,8 +625,22 @@ fn constant_and_unsupported_textures() {
             reflectance: ColorParam::Constant(Vec3::new(0.2, 0.4, 0.6))
         }
     );
+    // `scale` is a graph node multiplying its inputs (a constant texture is inlined).
     assert_eq!(
         s.materials[1],
+        MaterialDesc::Diffuse {
+            reflectance: ColorParam::Texture(0)
+        }
+    );
+    assert_eq!(
+        s.texture_graph.nodes[0],
+        TextureNode::Scale {
+            tex1: TexParam::Value(Vec3::new(0.2, 0.4, 0.6)),
+            tex2: TexParam::Value(Vec3::splat(0.5)),
+        }
+    );
+    assert_eq!(
+        s.materials[2],
         MaterialDesc::Diffuse {
             reflectance: ColorParam::Constant(Vec3::splat(0.5))
         }
@@ -601,7 +649,7 @@ fn constant_and_unsupported_textures() {
     assert!(
         s.warnings[0]
             .message
-            .contains("class \"scale\" unsupported")
+            .contains("class \"brick\" unsupported")
     );
 }
 

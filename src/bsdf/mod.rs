@@ -1,25 +1,30 @@
 //! Scattering functions sampled by the path tracer at each hit, in the local
 //! shading frame (z = shading normal; see [`frame::Frame`]).
 //!
-//! LuxRender materials map to them: matte -> Lambertian, mirror -> specular
-//! reflection, glass -> smooth dielectric, metal2 -> microfacet conductor.
+//! LuxRender materials map to them: matte -> Lambertian (Oren-Nayar with
+//! `sigma`), mirror -> specular reflection, glass -> smooth dielectric,
+//! metal2 -> microfacet conductor, glossy -> coated glossy.
 //! Directions point away from the surface; the dispatch here sanitises
 //! inputs (non-finite or unnormalised directions, samples outside [0, 1)) and
 //! outputs, so that no NaN or infinity escapes.
 
+pub mod coated_glossy;
 mod conductor;
 mod dielectric;
 pub mod frame;
 pub mod fresnel;
 mod lambertian;
 pub mod microfacet;
+pub mod oren_nayar;
 mod specular_reflection;
 
+pub use coated_glossy::CoatedGlossy;
 use conductor::Conductor;
 use dielectric::Dielectric;
 use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
+use oren_nayar::OrenNayar;
 use specular_reflection::SpecularReflection;
 
 #[derive(Clone, Copy, Debug)]
@@ -43,6 +48,14 @@ pub enum Bsdf {
         alpha_x: f32,
         alpha_y: f32,
     },
+    /// Rough diffuse; `a`, `b` from [`oren_nayar::oren_nayar_ab`].
+    OrenNayar {
+        reflectance: Vec3,
+        a: f32,
+        b: f32,
+    },
+    /// A diffuse base under a glossy coating (LuxRender's `glossy`).
+    CoatedGlossy(CoatedGlossy),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -88,6 +101,8 @@ impl Bsdf {
                 alpha_x,
                 alpha_y,
             } => conductor(f0, alpha_x, alpha_y).eval(wo, wi),
+            Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
+            Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
             Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => Vec3::ZERO,
         };
         if f.is_finite() { f } else { Vec3::ZERO }
@@ -106,6 +121,8 @@ impl Bsdf {
                 alpha_x,
                 alpha_y,
             } => conductor(f0, alpha_x, alpha_y).pdf(wo, wi),
+            Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
+            Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
             Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => 0.0,
         };
         if pdf.is_finite() && pdf > 0.0 {
@@ -140,6 +157,8 @@ impl Bsdf {
                 alpha_x,
                 alpha_y,
             } => conductor(f0, alpha_x, alpha_y).sample(wo, u),
+            Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
+            Bsdf::CoatedGlossy(c) => c.sample(wo, u),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -171,6 +190,9 @@ impl Bsdf {
             }
             .albedo(),
             Bsdf::Conductor { f0, .. } => f0,
+            Bsdf::OrenNayar { reflectance, .. } => reflectance,
+            // The coating reflects about Ks; the base shows through the rest.
+            Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,
         }
     }
 }

@@ -7,7 +7,7 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::SceneArgs;
-use crate::film::{Film, exposure_scale, write_image};
+use crate::film::{Film, apply_display_tone_map, exposure_scale, write_image};
 use crate::integrator::{RenderStats, Renderer};
 use crate::scene;
 use crate::scene::build::{build_world, tone_map};
@@ -56,7 +56,17 @@ pub fn run(
         let mut prepared = prepare(args)?;
         let stats = render_with_progress(&mut prepared.renderer);
         let film = prepared.renderer.world.resource::<Film>();
-        let pixels = film.mean();
+        let mut pixels = film.mean();
+        let png = output
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        if exposure.is_none() && png {
+            apply_display_tone_map(
+                tone_map(prepared.film.tonemap),
+                &mut pixels,
+                prepared.film.gamma,
+            );
+        }
         let scale = exposure.unwrap_or_else(|| {
             exposure_scale(
                 tone_map(prepared.film.tonemap),

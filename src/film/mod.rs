@@ -10,4 +10,4 @@ pub mod tonemap;
 pub use film::{Film, Reconstruction};
 pub use filter::{FilterKind, PixelFilter};
 pub use output::{read_exr, read_png_linear, write_image};
-pub use tonemap::{ToneMap, exposure_scale, luminance};
+pub use tonemap::{ToneMap, apply_display_tone_map, exposure_scale, luminance};

@@ -1,4 +1,8 @@
-//! Exposure: the scale applied to linear radiance before display encoding.
+//! Exposure and tone mapping: what is applied to linear radiance before display encoding.
+//!
+//! [`exposure_scale`] gives the global scale of the linear maps; [`ToneMapOp::apply`] runs
+//! LuxRender 1.x's `fleximage` tone mapping kernels (`tonemaps/*.cpp`), which scale each pixel's
+//! colour by a factor that may depend on its luminance.
 
 use glam::Vec3;
 
@@ -9,6 +13,16 @@ pub enum ToneMap {
     AutoLinear,
     /// A fixed scale.
     Linear { scale: f32 },
+    /// LuxRender's `reinhard`: Reinhard et al. 2002's global operator.
+    Reinhard {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
+    /// LuxRender's `contrast`: Ward 1994, `ywa` the display adaptation luminance.
+    Contrast { ywa: f32 },
+    /// LuxRender's `maxwhite`: the brightest pixel to white.
+    MaxWhite,
 }
 
 /// Luminance Y of linear Rec.709/sRGB: the Y row of the sRGB-to-XYZ matrix (D65), with the
@@ -22,7 +36,29 @@ pub fn exposure_scale(tonemap: ToneMap, pixels: &[Vec3], gamma: f32) -> f32 {
     match tonemap {
         ToneMap::Linear { scale } => scale,
         ToneMap::AutoLinear => autolinear_scale(pixels, gamma),
+        // Applied per pixel by [`apply_display_tone_map`].
+        ToneMap::Reinhard { .. } | ToneMap::Contrast { .. } | ToneMap::MaxWhite => 1.0,
     }
+}
+
+/// Applies the per-pixel kernels (`reinhard`, `contrast`, `maxwhite`) to an image bound for an
+/// 8-bit display; the linear ones are [`exposure_scale`]'s.
+pub fn apply_display_tone_map(tonemap: ToneMap, pixels: &mut [Vec3], gamma: f32) {
+    let op = match tonemap {
+        ToneMap::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        } => ToneMapOp::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        },
+        ToneMap::Contrast { ywa } => ToneMapOp::Contrast { ywa },
+        ToneMap::MaxWhite => ToneMapOp::MaxWhite,
+        ToneMap::AutoLinear | ToneMap::Linear { .. } => return,
+    };
+    op.apply(pixels, gamma);
 }
 
 /// LuxRender 1.x's `autolinear` (lux tonemaps/lineartonemap.cpp, `EVOp`, registered as
@@ -48,6 +84,120 @@ fn autolinear_scale(pixels: &[Vec3], gamma: f32) -> f32 {
         1.25 / y_avg * (118.0f32 / 255.0).powf(gamma)
     } else {
         1.0
+    }
+}
+
+/// The largest display luminance LuxRender passes to its tone maps (`film/fleximage.cpp`,
+/// `ApplyImagingPipeline`: `toneMap->Map(xyzpixels, xResolution, yResolution, 100.f)`).
+const MAX_DISPLAY_Y: f32 = 100.0;
+
+/// LuxRender's tone mapping kernels (`"string tonemapkernel"`), with its parameter names and
+/// defaults.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToneMapOp {
+    /// `autolinear`: see [`exposure_scale`].
+    AutoLinear,
+    /// `linear`: `linear_sensitivity` (100), `linear_exposure` (1/1000 s), `linear_fstop`
+    /// (2.8), `linear_gamma` (2.2).
+    Linear {
+        sensitivity: f32,
+        exposure: f32,
+        fstop: f32,
+        gamma: f32,
+    },
+    /// `reinhard`: `reinhard_prescale` (1), `reinhard_postscale` (1), `reinhard_burn` (7).
+    Reinhard {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
+    /// `contrast`: `contrast_ywa` (50), the display adaptation luminance.
+    Contrast { ywa: f32 },
+    /// `maxwhite`: the brightest pixel to white.
+    MaxWhite,
+}
+
+/// The log-average luminance (the geometric mean) of the pixels with positive luminance, as
+/// LuxRender's `reinhard` and `contrast` compute it; 1 when none is lit.
+fn log_average_luminance(pixels: &[Vec3]) -> f32 {
+    let (sum, n) = pixels
+        .iter()
+        .map(|&p| luminance(p))
+        .filter(|y| *y > 0.0 && y.is_finite())
+        .fold((0.0f64, 0usize), |(s, n), y| {
+            (s + f64::from(y.max(1e-6)).ln(), n + 1)
+        });
+    if n == 0 {
+        1.0
+    } else {
+        (sum / n as f64).exp() as f32
+    }
+}
+
+impl ToneMapOp {
+    /// Tone maps linear RGB `pixels` in place. Each kernel multiplies a pixel's colour by a
+    /// factor (LuxRender scales XYZ; the same factor on linear RGB is the same map, RGB being
+    /// linear in XYZ). `gamma` is the display gamma (for `autolinear`).
+    pub fn apply(&self, pixels: &mut [Vec3], gamma: f32) {
+        match *self {
+            ToneMapOp::AutoLinear => {
+                let s = exposure_scale(ToneMap::AutoLinear, pixels, gamma);
+                pixels.iter_mut().for_each(|p| *p *= s);
+            }
+            // `tonemaps/lineartonemap.h` (LuxRender 1.x, "taken from the ISO speed article"):
+            // factor = exposure / fstop^2 x sensitivity x 0.65 / 10 x (118/255)^gamma.
+            ToneMapOp::Linear {
+                sensitivity,
+                exposure,
+                fstop,
+                gamma,
+            } => {
+                let s = exposure / (fstop * fstop) * sensitivity * 0.65 / 10.0
+                    * (118.0f32 / 255.0).powf(gamma);
+                let s = if s.is_finite() { s } else { 1.0 };
+                pixels.iter_mut().for_each(|p| *p *= s);
+            }
+            // `tonemaps/reinhard.cpp` (LuxRender 1.x, its comment: eq. 4 of Reinhard et al.
+            // 2002, "Photographic Tone Reproduction for Digital Images"): with the key a = 0.1
+            // and the log-average luminance Y_wa, the scaled luminance L = a Y / Y_wa maps to
+            // L (1 + L / burn^2) / (1 + L), so L = burn maps to 1; prescale divides L before
+            // the curve, postscale multiplies the result.
+            ToneMapOp::Reinhard {
+                prescale,
+                postscale,
+                burn,
+            } => {
+                const KEY: f32 = 0.1;
+                let scale = KEY / log_average_luminance(pixels);
+                let inv_burn2 = if burn > 0.0 { 1.0 / (burn * burn) } else { 1e5 };
+                let pre = scale / prescale;
+                let post = scale * postscale;
+                for p in pixels.iter_mut() {
+                    let ys = luminance(*p) * pre;
+                    *p *= post * (1.0 + ys * inv_burn2) / (1.0 + ys);
+                }
+            }
+            // `tonemaps/contrast.cpp` (Ward 1994, "A Contrast-Based Scalefactor for Luminance
+            // Display"): s = ((1.219 + ywa^0.4) / (1.219 + Y_wa^0.4))^2.5 / 100, Y_wa the
+            // log-average luminance, 100 the display's maximum luminance.
+            ToneMapOp::Contrast { ywa } => {
+                let world = log_average_luminance(pixels);
+                let s =
+                    ((1.219 + ywa.powf(0.4)) / (1.219 + world.powf(0.4))).powf(2.5) / MAX_DISPLAY_Y;
+                pixels.iter_mut().for_each(|p| *p *= s);
+            }
+            // `tonemaps/maxwhite.cpp`: divide by the largest luminance.
+            ToneMapOp::MaxWhite => {
+                let max = pixels
+                    .iter()
+                    .map(|&p| luminance(p))
+                    .filter(|y| y.is_finite())
+                    .fold(0.0f32, f32::max);
+                if max > 0.0 {
+                    pixels.iter_mut().for_each(|p| *p /= max);
+                }
+            }
+        }
     }
 }
 
@@ -97,5 +247,97 @@ mod tests {
             exposure_scale(ToneMap::Linear { scale: 3.5 }, &pixels, 2.2),
             3.5
         );
+    }
+
+    fn grey(y: f32) -> Vec3 {
+        Vec3::splat(y)
+    }
+
+    /// Reinhard et al.'s curve maps L = burn (with prescale 1) to exactly 1, L = 0 to 0, and is
+    /// L / (1 + L) as burn grows; postscale multiplies the output.
+    #[test]
+    fn reinhard_maps_burn_to_white() {
+        // Half the pixels at Y = 1, half at Y = 4: Y_wa = 2, so a pixel of luminance
+        // Y = burn Y_wa / 0.1 has L = burn.
+        let burn = 6.0f32;
+        let y_white = burn * 2.0 / 0.1;
+        let mut pixels = vec![grey(1.0), grey(4.0), grey(1.0), grey(4.0)];
+        let ywa = log_average_luminance(&pixels);
+        assert!((ywa - 2.0).abs() < 1e-5, "{ywa}");
+        pixels.extend([grey(y_white), Vec3::ZERO]);
+        // Recompute with the extra pixels: the black one is skipped, the white one counts.
+        let ywa = log_average_luminance(&pixels);
+        let l_white = 0.1 * y_white / ywa;
+        let mut out = pixels.clone();
+        ToneMapOp::Reinhard {
+            prescale: 1.0,
+            postscale: 1.0,
+            burn: l_white,
+        }
+        .apply(&mut out, 2.2);
+        assert!((luminance(out[4]) - 1.0).abs() < 1e-4, "{}", out[4]);
+        assert_eq!(out[5], Vec3::ZERO);
+        // Large burn: L / (1 + L); postscale 1.2 scales the result.
+        let mut out = pixels.clone();
+        ToneMapOp::Reinhard {
+            prescale: 1.0,
+            postscale: 1.2,
+            burn: 1e6,
+        }
+        .apply(&mut out, 2.2);
+        let l = 0.1 * 4.0 / ywa;
+        assert!((luminance(out[1]) - 1.2 * l / (1.0 + l)).abs() < 1e-5);
+        // Colour ratios are kept.
+        let mut c = [Vec3::new(0.2, 0.4, 0.8)];
+        ToneMapOp::Reinhard {
+            prescale: 1.0,
+            postscale: 1.0,
+            burn: 7.0,
+        }
+        .apply(&mut c, 2.2);
+        assert!((c[0].y / c[0].x - 2.0).abs() < 1e-5 && (c[0].z / c[0].x - 4.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn linear_contrast_and_maxwhite() {
+        // LuxRender's linear defaults: 1/1000 s at f/2.8, ISO 100.
+        let mut p = [grey(1.0)];
+        ToneMapOp::Linear {
+            sensitivity: 100.0,
+            exposure: 1e-3,
+            fstop: 2.8,
+            gamma: 2.2,
+        }
+        .apply(&mut p, 2.2);
+        let expected = 1e-3 / 7.84 * 100.0 * 0.65 / 10.0 * (118.0f32 / 255.0).powf(2.2);
+        assert!((p[0].x / expected - 1.0).abs() < 1e-5, "{}", p[0].x);
+        // Contrast: a scene whose log-average equals the display adaptation luminance is
+        // scaled by 1 / 100 (the display maximum).
+        let mut p = vec![grey(10.0), grey(250.0)];
+        ToneMapOp::Contrast { ywa: 50.0 }.apply(&mut p, 2.2);
+        assert!(
+            (p[0].x - 0.1).abs() < 1e-4 && (p[1].x - 2.5).abs() < 1e-3,
+            "{p:?}"
+        );
+        // Max white: the brightest pixel's luminance becomes 1.
+        let mut p = vec![grey(0.5), Vec3::new(2.0, 4.0, 1.0), Vec3::ZERO];
+        ToneMapOp::MaxWhite.apply(&mut p, 2.2);
+        assert!((luminance(p[1]) - 1.0).abs() < 1e-6);
+        assert!((p[0].x * luminance(Vec3::new(2.0, 4.0, 1.0)) - 0.5).abs() < 1e-6);
+        // A black image stays black and finite under every kernel.
+        for op in [
+            ToneMapOp::AutoLinear,
+            ToneMapOp::Reinhard {
+                prescale: 1.0,
+                postscale: 1.2,
+                burn: 6.0,
+            },
+            ToneMapOp::Contrast { ywa: 50.0 },
+            ToneMapOp::MaxWhite,
+        ] {
+            let mut p = vec![Vec3::ZERO; 4];
+            op.apply(&mut p, 2.2);
+            assert!(p.iter().all(|v| *v == Vec3::ZERO), "{op:?}");
+        }
     }
 }

@@ -4,9 +4,10 @@
 pub mod texture;
 
 use bevy_ecs::prelude::*;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, CoatedGlossy};
+use crate::texture::ShadingPoint;
 use texture::TextureTable;
 
 /// Mixes nest at most this deep; deeper chains (only a cycle makes one) resolve to black matte.
@@ -24,6 +25,19 @@ pub enum Color {
 pub enum Material {
     Lambertian {
         reflectance: Color,
+    },
+    /// Oren-Nayar's A and B (see `bsdf::oren_nayar`).
+    OrenNayar {
+        reflectance: Color,
+        a: f32,
+        b: f32,
+    },
+    CoatedGlossy {
+        diffuse: Color,
+        specular: Color,
+        absorption: Color,
+        depth: f32,
+        roughness: f32,
     },
     SpecularReflection {
         reflectance: Color,
@@ -61,6 +75,13 @@ impl MaterialTable {
         self.materials.iter().any(|m| {
             let inputs: &[&Color] = match m {
                 Material::Lambertian { reflectance } => &[reflectance],
+                Material::OrenNayar { reflectance, .. } => &[reflectance],
+                Material::CoatedGlossy {
+                    diffuse,
+                    specular,
+                    absorption,
+                    ..
+                } => &[diffuse, specular, absorption],
                 Material::SpecularReflection { reflectance } => &[reflectance],
                 Material::Dielectric {
                     reflectance,
@@ -74,19 +95,25 @@ impl MaterialTable {
         })
     }
 
-    /// The BSDF of material `id` at `uv`; `None` for `null` (the ray passes through).
+    /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
     /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one).
     pub fn bsdf_at(
         &self,
         id: u32,
-        uv: Vec2,
+        sp: &ShadingPoint,
         textures: Option<&TextureTable>,
         mut choice: f32,
     ) -> Option<Bsdf> {
-        let color = |c: &Color| match (c, textures) {
-            (Color::Constant(c), _) => *c,
-            (Color::Texture(t), Some(table)) => table.lookup(*t, uv),
-            (Color::Texture(_), None) => Vec3::splat(0.5),
+        // Colours are clamped to [0, 1], as LuxRender's materials clamp their textures'
+        // values (`materials/matte.cpp`, `glossy2.cpp`: `Kd->Evaluate(...).Clamp(0, 1)`): an
+        // unclamped `mix` driven by fbm can go negative.
+        let color = |c: &Color| {
+            match (c, textures) {
+                (Color::Constant(c), _) => *c,
+                (Color::Texture(t), Some(table)) => table.lookup(*t, sp),
+                (Color::Texture(_), None) => Vec3::splat(0.5),
+            }
+            .clamp(Vec3::ZERO, Vec3::ONE)
         };
         let mut id = id as usize;
         for _ in 0..MAX_MIX_DEPTH {
@@ -94,6 +121,24 @@ impl MaterialTable {
                 Material::Lambertian { reflectance } => Some(Bsdf::Lambertian {
                     reflectance: color(reflectance),
                 }),
+                Material::OrenNayar { reflectance, a, b } => Some(Bsdf::OrenNayar {
+                    reflectance: color(reflectance),
+                    a: *a,
+                    b: *b,
+                }),
+                Material::CoatedGlossy {
+                    diffuse,
+                    specular,
+                    absorption,
+                    depth,
+                    roughness,
+                } => Some(Bsdf::CoatedGlossy(CoatedGlossy {
+                    diffuse: color(diffuse),
+                    specular: color(specular),
+                    absorption: color(absorption),
+                    depth: *depth,
+                    roughness: *roughness,
+                })),
                 Material::SpecularReflection { reflectance } => Some(Bsdf::SpecularReflection {
                     reflectance: color(reflectance),
                 }),

@@ -1,9 +1,12 @@
-//! Image textures, looked up with bilinear filtering and repeat wrapping.
+//! The scene's textures at render time: the texture graph (procedural and composite textures)
+//! and the images its image nodes read, looked up with bilinear filtering and repeat wrapping.
 
 use std::sync::Arc;
 
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
+
+use crate::texture::{ShadingPoint, TexParam, TextureGraph};
 
 /// A linear RGB image with its uv mapping.
 #[derive(Clone, Debug)]
@@ -21,14 +24,22 @@ pub struct ImageTexture {
 #[derive(Resource, Clone, Debug)]
 pub struct TextureTable {
     pub textures: Vec<ImageTexture>,
+    pub graph: TextureGraph,
 }
 
 impl TextureTable {
-    /// The colour of texture `id` at `uv`. The image's first row is t = 0 (LuxRender's
-    /// convention; LuxBlend writes vscale -1, vdelta 1 to put Blender's v = 0 at the bottom).
-    pub fn lookup(&self, id: usize, uv: Vec2) -> Vec3 {
+    /// The value of graph node `id` at `sp`.
+    pub fn lookup(&self, id: usize, sp: &ShadingPoint) -> Vec3 {
+        self.graph.eval(TexParam::Texture(id), sp, &|image, st| {
+            self.image(image, st)
+        })
+    }
+
+    /// Image `id` at `st`. The image's first row is t = 0 (LuxRender's convention; LuxBlend
+    /// writes vscale -1, vdelta 1 to put Blender's v = 0 at the bottom).
+    fn image(&self, id: usize, st: Vec2) -> Vec3 {
         match self.textures.get(id) {
-            Some(texture) => sample_bilinear(texture, uv * texture.scale + texture.delta),
+            Some(texture) => sample_bilinear(texture, st * texture.scale + texture.delta),
             None => Vec3::ZERO,
         }
     }

@@ -7,6 +7,7 @@ use glam::{Affine3A, Mat3, Vec3};
 use super::desc::{
     ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ToneMap,
 };
+use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::camera::fisheye::FisheyeFit;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, CameraSetup, CameraType, default_screen_window};
@@ -216,6 +217,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     if uses_textures {
         world.insert_resource(TextureTable {
             textures: desc.textures.iter().map(image_texture).collect(),
+            graph: desc.texture_graph.clone(),
         });
     }
     world.insert_resource(GeometryNeeds { uvs: uses_textures });
@@ -227,6 +229,9 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                 FilterKind::Box => film::FilterKind::Box,
                 FilterKind::Gaussian { alpha } => film::FilterKind::Gaussian { alpha },
                 FilterKind::BlackmanHarris => film::FilterKind::BlackmanHarris,
+                FilterKind::Mitchell { b, c } => film::FilterKind::Mitchell { b, c },
+                FilterKind::Triangle => film::FilterKind::Triangle,
+                FilterKind::Sinc { tau } => film::FilterKind::Sinc { tau },
             },
             desc.filter.radius,
         ),
@@ -280,6 +285,30 @@ fn material(desc: &MaterialDesc) -> Material {
         MaterialDesc::Diffuse { reflectance } => Material::Lambertian {
             reflectance: color(reflectance),
         },
+        MaterialDesc::RoughDiffuse {
+            reflectance,
+            sigma_degrees,
+        } => {
+            let (a, b) = oren_nayar_ab(*sigma_degrees);
+            Material::OrenNayar {
+                reflectance: color(reflectance),
+                a,
+                b,
+            }
+        }
+        MaterialDesc::CoatedDiffuse {
+            diffuse,
+            specular,
+            absorption,
+            depth,
+            roughness,
+        } => Material::CoatedGlossy {
+            diffuse: color(diffuse),
+            specular: color(specular),
+            absorption: color(absorption),
+            depth: *depth,
+            roughness: *roughness,
+        },
         MaterialDesc::Mirror { reflectance } => Material::SpecularReflection {
             reflectance: color(reflectance),
         },
@@ -329,5 +358,16 @@ pub fn tone_map(desc: ToneMap) -> film::ToneMap {
     match desc {
         ToneMap::AutoLinear => film::ToneMap::AutoLinear,
         ToneMap::Linear { scale } => film::ToneMap::Linear { scale },
+        ToneMap::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        } => film::ToneMap::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        },
+        ToneMap::Contrast { ywa } => film::ToneMap::Contrast { ywa },
+        ToneMap::MaxWhite => film::ToneMap::MaxWhite,
     }
 }

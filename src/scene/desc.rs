@@ -15,6 +15,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
 use crate::camera::{CameraType, pinhole};
+pub use crate::texture::TextureGraph;
 
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
 /// a 1-based column. Displayed as `file:line` or `file:line:column`.
@@ -84,7 +85,11 @@ pub struct SceneDesc {
     /// `SurfaceIntegrator "maxdepth"` or `"eyedepth"`, if given.
     pub max_depth: Option<u32>,
     pub filter: FilterDesc,
+    /// Decoded images, referred to by the texture graph's image nodes and by lights.
     pub textures: Vec<ImageTexture>,
+    /// The scene's textures (procedural, composite, image lookups); a
+    /// [`ColorParam::Texture`] names one of its nodes.
+    pub texture_graph: TextureGraph,
     pub materials: Vec<MaterialDesc>,
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
@@ -122,6 +127,7 @@ impl SceneDesc {
                 radius: Vec2::splat(0.5),
             },
             textures: Vec::new(),
+            texture_graph: TextureGraph::default(),
             materials: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
@@ -167,6 +173,16 @@ pub enum ToneMap {
     AutoLinear,
     /// `linear` (or any other kernel): a fixed scale.
     Linear { scale: f32 },
+    /// LuxRender's `reinhard`: Reinhard et al. 2002's global operator.
+    Reinhard {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
+    /// LuxRender's `contrast`: Ward 1994, `ywa` the display adaptation luminance.
+    Contrast { ywa: f32 },
+    /// LuxRender's `maxwhite`: the brightest pixel to white.
+    MaxWhite,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -184,6 +200,17 @@ pub enum FilterKind {
         alpha: f32,
     },
     BlackmanHarris,
+    /// Mitchell and Netravali 1988 cubic with parameters B and C (LuxRender's defaults 1/3, 1/3).
+    Mitchell {
+        b: f32,
+        c: f32,
+    },
+    /// A tent reaching 0 at the radius.
+    Triangle,
+    /// Lanczos-windowed sinc with `tau` lobes (LuxRender's `sinc`, default 3).
+    Sinc {
+        tau: f32,
+    },
 }
 
 /// A decoded image, linear RGB, rows from the top.
@@ -203,7 +230,7 @@ pub struct ImageTexture {
 pub type TextureId = usize;
 pub type MaterialId = usize;
 
-/// A colour parameter: a constant or an image texture.
+/// A colour parameter: a constant or a node of the scene's texture graph.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ColorParam {
     Constant(Vec3),
@@ -215,6 +242,22 @@ pub enum ColorParam {
 pub enum MaterialDesc {
     /// Lambertian reflection.
     Diffuse { reflectance: ColorParam },
+    /// Oren-Nayar rough diffuse reflection; `sigma_degrees`: the standard deviation of the
+    /// facet slope angle.
+    RoughDiffuse {
+        reflectance: ColorParam,
+        sigma_degrees: f32,
+    },
+    /// A diffuse base under a glossy dielectric coating (Schlick's coated model):
+    /// `specular` the coating's reflectance at normal incidence, `absorption` and `depth` its
+    /// absorption coefficient and thickness, `roughness` Schlick's r (GGX alpha^2).
+    CoatedDiffuse {
+        diffuse: ColorParam,
+        specular: ColorParam,
+        absorption: ColorParam,
+        depth: f32,
+        roughness: f32,
+    },
     /// A perfect mirror: `reflectance` at every angle, no Fresnel falloff.
     Mirror { reflectance: ColorParam },
     /// A smooth dielectric interface: `ior` inside over outside (the normal points outside);

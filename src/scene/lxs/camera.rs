@@ -95,6 +95,16 @@ impl Parser {
                     * (118.0f32 / 255.0).powf(display_gamma);
                 ToneMap::Linear { scale }
             }
+            // `tonemaps/reinhard.cpp`, `contrast.cpp`, `maxwhite.cpp`.
+            Some("reinhard") => ToneMap::Reinhard {
+                prescale: params.float("reinhard_prescale")?.unwrap_or(1.0),
+                postscale: params.float("reinhard_postscale")?.unwrap_or(1.0),
+                burn: params.float("reinhard_burn")?.unwrap_or(7.0),
+            },
+            Some("contrast") => ToneMap::Contrast {
+                ywa: params.float("contrast_ywa")?.unwrap_or(50.0),
+            },
+            Some("maxwhite") => ToneMap::MaxWhite,
             Some(other) => {
                 self.warn(
                     line,
@@ -126,6 +136,18 @@ impl Parser {
                 alpha: params.float("alpha")?.unwrap_or(2.0),
             },
             "blackmanharris" => FilterKind::BlackmanHarris,
+            // `filters/mitchell.cpp`: B and C default 1/3 (the `supersample` option is not read).
+            "mitchell" => {
+                params.string("supersample")?;
+                FilterKind::Mitchell {
+                    b: params.float("B")?.unwrap_or(1.0 / 3.0),
+                    c: params.float("C")?.unwrap_or(1.0 / 3.0),
+                }
+            }
+            "triangle" => FilterKind::Triangle,
+            "sinc" => FilterKind::Sinc {
+                tau: params.float("tau")?.unwrap_or(3.0),
+            },
             _ => {
                 self.warn(
                     line,

@@ -7,7 +7,8 @@ use glam::Vec3;
 use super::params::ParamList;
 use super::parser::Parser;
 use crate::film::luminance;
-use crate::scene::desc::{AreaLightDesc, LightDesc, SceneError, ShapeDesc};
+use crate::scene::desc::{AreaLightDesc, ColorParam, LightDesc, SceneError, ShapeDesc};
+use crate::texture::{ShadingPoint, TexParam, TextureNode};
 
 /// `AreaLightSource "area"` as written; it becomes a radiance once the shape's area is known.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,7 +52,7 @@ impl Parser {
         params: &mut ParamList,
     ) -> Result<(), SceneError> {
         let ctm = self.state.ctm;
-        let l = params.vec3("L")?.unwrap_or(Vec3::ONE);
+        let l = self.light_color(params, line)?;
         let gain = params.float("gain")?.unwrap_or(1.0);
         let scale = l * gain;
         let from = params.vec3("from")?.unwrap_or(Vec3::ZERO);
@@ -139,11 +140,41 @@ impl Parser {
             );
         }
         self.state.area_light = Some(AreaLight {
-            l: params.vec3("L")?.unwrap_or(Vec3::ONE),
+            l: self.light_color(params, line)?,
             gain: params.float("gain")?.unwrap_or(1.0),
             power: params.float("power")?.unwrap_or(0.0),
             efficacy: params.float("efficacy")?.unwrap_or(0.0),
         });
         Ok(())
+    }
+
+    /// A light's `L`: a colour, or a texture (LuxBlend writes `"texture L"` naming a
+    /// `blackbody` or `constant` texture). Emission is one colour per light in foton, so the
+    /// texture is evaluated once; a texture that varies over the surface gets a warning.
+    fn light_color(&mut self, params: &mut ParamList, line: usize) -> Result<Vec3, SceneError> {
+        let id = match self.color_param(params, "L", Vec3::ONE, line)? {
+            ColorParam::Constant(c) => return Ok(c),
+            ColorParam::Texture(id) => id,
+        };
+        let graph = &self.scene.texture_graph;
+        if !matches!(
+            graph.nodes.get(id),
+            Some(TextureNode::Blackbody { .. } | TextureNode::Constant(_))
+        ) {
+            self.warn(
+                line,
+                "\"texture L\": a texture varying over the light is unsupported: its value at uv (0, 0)",
+            );
+        }
+        let at = ShadingPoint {
+            p: Vec3::ZERO,
+            uv: glam::Vec2::ZERO,
+            n: Vec3::Z,
+            object: 0,
+        };
+        Ok(self
+            .scene
+            .texture_graph
+            .eval(TexParam::Texture(id), &at, &|_, _| Vec3::ONE))
     }
 }

@@ -6,8 +6,10 @@ use glam::{Vec2, Vec3};
 
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
+use crate::bsdf::coated_glossy::coating_f0;
 use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
 use crate::scene::io::image;
+use crate::texture::{Mapping2D, TextureNode};
 
 /// LuxRender's default diffuse grey, also what unknown materials become.
 const GREY: Vec3 = Vec3::splat(0.5);
@@ -38,17 +40,41 @@ impl Parser {
         params: &mut ParamList,
     ) -> Result<MaterialDesc, SceneError> {
         Ok(match kind {
+            // `materials/matte.cpp`: Kd 0.9, sigma 0 (Lambertian) in degrees, clamped to [0, 90].
             "matte" => {
-                if let Some(sigma) = params.float("sigma")?
-                    && sigma != 0.0
-                {
-                    self.warn(
-                        line,
-                        format!("matte: sigma {sigma} (Oren-Nayar) unsupported: Lambertian"),
-                    );
+                let reflectance = self.color_param(params, "Kd", Vec3::splat(0.9), line)?;
+                let sigma = self.constant_float(params, "sigma", 0.0, line)?;
+                if sigma > 0.0 {
+                    MaterialDesc::RoughDiffuse {
+                        reflectance,
+                        sigma_degrees: sigma.min(90.0),
+                    }
+                } else {
+                    MaterialDesc::Diffuse { reflectance }
                 }
-                MaterialDesc::Diffuse {
-                    reflectance: self.color_param(params, "Kd", GREY, line)?,
+            }
+            // `materials/glossy2.cpp`: Kd 1, Ks 1 (times ((n - 1) / (n + 1))^2 when `index` > 0),
+            // Ka 0, d 0, uroughness = vroughness = 0.1 clamped to [1e-4, 1], Schlick's
+            // r = u v. foton's coating is isotropic.
+            "glossy" => {
+                let diffuse = self.color_param(params, "Kd", Vec3::ONE, line)?;
+                let index = self.constant_float(params, "index", 0.0, line)?;
+                let specular = match self.color_param(params, "Ks", Vec3::ONE, line)? {
+                    ColorParam::Constant(ks) => ColorParam::Constant(coating_f0(ks, index)),
+                    texture => texture,
+                };
+                let absorption = self.color_param(params, "Ka", Vec3::ZERO, line)?;
+                let depth = self.constant_float(params, "d", 0.0, line)?;
+                let u = self.constant_float(params, "uroughness", 0.1, line)?;
+                let v = self.constant_float(params, "vroughness", 0.1, line)?;
+                let clamp = |r: f32| r.clamp(1e-4, 1.0);
+                params.string("multibounce")?;
+                MaterialDesc::CoatedDiffuse {
+                    diffuse,
+                    specular,
+                    absorption,
+                    depth,
+                    roughness: clamp(u) * clamp(v),
                 }
             }
             "mirror" => MaterialDesc::Mirror {
@@ -57,7 +83,7 @@ impl Parser {
             "glass" => MaterialDesc::Dielectric {
                 reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
                 transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
-                ior: params.float("index")?.unwrap_or(1.5),
+                ior: self.constant_float(params, "index", 1.5, line)?,
             },
             "metal2" => {
                 let kr = self.color_param(params, "Kr", Vec3::ONE, line)?;
@@ -109,8 +135,32 @@ impl Parser {
         })
     }
 
+    /// A float parameter that may name a texture: a number or a `constant` texture gives its
+    /// value; a varying texture is not evaluated per hit for these parameters (a warning, then
+    /// the default).
+    fn constant_float(
+        &mut self,
+        params: &mut ParamList,
+        name: &str,
+        default: f32,
+        line: usize,
+    ) -> Result<f32, SceneError> {
+        match self.color_param(params, name, Vec3::splat(default), line)? {
+            ColorParam::Constant(c) => Ok((c.x + c.y + c.z) / 3.0),
+            ColorParam::Texture(_) => {
+                self.warn(
+                    line,
+                    format!(
+                        "\"{name}\": a varying texture for this parameter is unsupported: {default}"
+                    ),
+                );
+                Ok(default)
+            }
+        }
+    }
+
     /// A colour or a reference to a texture defined earlier.
-    fn color_param(
+    pub(super) fn color_param(
         &self,
         params: &mut ParamList,
         name: &str,
@@ -157,8 +207,11 @@ impl Parser {
         };
         let texture = match class {
             "imagemap" => {
-                let id = self.image_texture(&name, line, params)?;
-                ColorParam::Texture(id)
+                let image = self.image_texture(&name, line, params)?;
+                ColorParam::Texture(self.scene.texture_graph.push(TextureNode::Image {
+                    image,
+                    mapping: Mapping2D::default(),
+                }))
             }
             "constant" => match params.color("value")? {
                 Some(ColorSource::Rgb(rgb)) => ColorParam::Constant(rgb),
@@ -169,14 +222,17 @@ impl Parser {
                     ));
                 }
             },
-            _ => {
-                self.warn(
-                    line,
-                    format!("Texture \"{name}\": class \"{class}\" unsupported: constant grey"),
-                );
-                params.ignore_all();
-                ColorParam::Constant(GREY)
-            }
+            _ => match self.procedural_texture(class, line, params)? {
+                Some(node) => ColorParam::Texture(self.scene.texture_graph.push(node)),
+                None => {
+                    self.warn(
+                        line,
+                        format!("Texture \"{name}\": class \"{class}\" unsupported: constant grey"),
+                    );
+                    params.ignore_all();
+                    ColorParam::Constant(GREY)
+                }
+            },
         };
         self.named_textures.insert(name, texture);
         Ok(())

@@ -8,6 +8,7 @@ mod params;
 mod parser;
 mod paths;
 mod shapes;
+mod textures;
 mod tokenizer;
 
 use std::path::Path;

@@ -1,0 +1,197 @@
+//! LuxRender's procedural and composite texture classes (`Texture "name" "float"|"color"
+//! "class" ...`), read into the scene's texture graph with LuxRender 1.x's parameter names and
+//! defaults (`textures/*.h`, `core/texture.cpp` for the mappings).
+
+use glam::{Affine3A, Vec2, Vec3};
+
+use super::params::ParamList;
+use super::parser::Parser;
+use crate::scene::desc::{ColorParam, SceneError};
+use crate::texture::{Mapping2D, Mapping3D, TexParam, TextureNode};
+
+impl Parser {
+    /// The graph node for a texture of class `class`, or `None` for a class foton lacks.
+    pub(super) fn procedural_texture(
+        &mut self,
+        class: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<Option<TextureNode>, SceneError> {
+        let octaves = |p: &mut ParamList| -> Result<u32, SceneError> {
+            Ok(p.int("octaves")?.unwrap_or(8).clamp(0, 64) as u32)
+        };
+        Ok(Some(match class {
+            "scale" => TextureNode::Scale {
+                tex1: self.tex_param(params, "tex1", 1.0, line)?,
+                tex2: self.tex_param(params, "tex2", 1.0, line)?,
+            },
+            "mix" => TextureNode::Mix {
+                tex1: self.tex_param(params, "tex1", 0.0, line)?,
+                tex2: self.tex_param(params, "tex2", 1.0, line)?,
+                amount: self.tex_param(params, "amount", 0.5, line)?,
+            },
+            "checkerboard" => {
+                let tex1 = self.tex_param(params, "tex1", 1.0, line)?;
+                let tex2 = self.tex_param(params, "tex2", 0.0, line)?;
+                params.string("aamode")?;
+                match params.int("dimension")?.unwrap_or(2) {
+                    3 => TextureNode::Checkerboard3D {
+                        mapping: self.mapping_3d(params, line, true)?,
+                        tex1,
+                        tex2,
+                    },
+                    2 => TextureNode::Checkerboard2D {
+                        mapping: self.mapping_2d(params, line)?,
+                        tex1,
+                        tex2,
+                    },
+                    d => {
+                        return Err(self.error(
+                            line,
+                            format!("checkerboard: \"dimension\" {d}, expected 2 or 3"),
+                        ));
+                    }
+                }
+            }
+            "dots" => TextureNode::Dots {
+                inside: self.tex_param(params, "inside", 1.0, line)?,
+                outside: self.tex_param(params, "outside", 0.0, line)?,
+                mapping: self.mapping_2d(params, line)?,
+            },
+            "bilerp" => {
+                let mut corner = |name: &str, default: f32| -> Result<Vec3, SceneError> {
+                    Ok(match params.color(name)? {
+                        Some(super::params::ColorSource::Rgb(c)) => c,
+                        Some(super::params::ColorSource::Texture(t)) => {
+                            return Err(self.error(
+                                line,
+                                format!(
+                                    "bilerp: \"{name}\" names texture \"{t}\"; expected a value"
+                                ),
+                            ));
+                        }
+                        None => Vec3::splat(default),
+                    })
+                };
+                let v = [
+                    corner("v00", 0.0)?,
+                    corner("v01", 1.0)?,
+                    corner("v10", 0.0)?,
+                    corner("v11", 1.0)?,
+                ];
+                TextureNode::Bilerp {
+                    mapping: self.mapping_2d(params, line)?,
+                    v,
+                }
+            }
+            "fbm" => TextureNode::Fbm {
+                octaves: octaves(params)?,
+                roughness: params.float("roughness")?.unwrap_or(0.5),
+                mapping: self.mapping_3d(params, line, true)?,
+            },
+            "wrinkled" => TextureNode::Wrinkled {
+                octaves: octaves(params)?,
+                roughness: params.float("roughness")?.unwrap_or(0.5),
+                mapping: self.mapping_3d(params, line, true)?,
+            },
+            "windy" => TextureNode::Windy {
+                mapping: self.mapping_3d(params, line, true)?,
+            },
+            // Marble's own `float scale` takes the name of the mappings' `vector scale`.
+            "marble" => TextureNode::Marble {
+                octaves: octaves(params)?,
+                roughness: params.float("roughness")?.unwrap_or(0.5),
+                scale: params.float("scale")?.unwrap_or(1.0),
+                variation: params.float("variation")?.unwrap_or(0.2),
+                mapping: self.mapping_3d(params, line, false)?,
+            },
+            "blackbody" => TextureNode::blackbody(params.float("temperature")?.unwrap_or(6500.0)),
+            "harlequin" => TextureNode::Harlequin,
+            _ => return Ok(None),
+        }))
+    }
+
+    /// A texture input: a value (one float or a colour) or the name of a texture.
+    fn tex_param(
+        &mut self,
+        params: &mut ParamList,
+        name: &str,
+        default: f32,
+        line: usize,
+    ) -> Result<TexParam, SceneError> {
+        Ok(
+            match self.color_param(params, name, Vec3::splat(default), line)? {
+                ColorParam::Constant(c) => TexParam::Value(c),
+                ColorParam::Texture(id) => TexParam::Texture(id),
+            },
+        )
+    }
+
+    /// LuxRender's 2D mappings (`TextureMapping2D::Create`): `mapping` "uv" (default),
+    /// "spherical", "cylindrical", "planar".
+    fn mapping_2d(&mut self, params: &mut ParamList, line: usize) -> Result<Mapping2D, SceneError> {
+        let mut f = |name: &str, default: f32| -> Result<f32, SceneError> {
+            Ok(params.float(name)?.unwrap_or(default))
+        };
+        let scale = Vec2::new(f("uscale", 1.0)?, f("vscale", 1.0)?);
+        let delta = Vec2::new(f("udelta", 0.0)?, f("vdelta", 0.0)?);
+        let world_to_texture = Affine3A::from_mat4(self.state.ctm).inverse();
+        let kind = params.string("mapping")?;
+        Ok(match kind.as_deref().unwrap_or("uv") {
+            "uv" => Mapping2D::Uv { scale, delta },
+            "spherical" => Mapping2D::Spherical {
+                world_to_texture,
+                scale,
+                delta,
+            },
+            "cylindrical" => Mapping2D::Cylindrical {
+                world_to_texture,
+                uscale: scale.x,
+                udelta: delta.x,
+            },
+            "planar" => Mapping2D::Planar {
+                v1: params.vec3("v1")?.unwrap_or(Vec3::X),
+                v2: params.vec3("v2")?.unwrap_or(Vec3::Y),
+                delta,
+            },
+            other => {
+                self.warn(line, format!("texture mapping \"{other}\" unsupported: uv"));
+                Mapping2D::Uv { scale, delta }
+            }
+        })
+    }
+
+    /// LuxRender's 3D mappings (`TextureMapping3D`): `coordinates` "global" (default) or "uv",
+    /// with `scale` (when `vector_scale`), `rotate` (degrees) and `translate` applied in texture
+    /// space.
+    fn mapping_3d(
+        &mut self,
+        params: &mut ParamList,
+        line: usize,
+        vector_scale: bool,
+    ) -> Result<Mapping3D, SceneError> {
+        let scale = if vector_scale {
+            params.vec3("scale")?.unwrap_or(Vec3::ONE)
+        } else {
+            Vec3::ONE
+        };
+        let world_to_texture = Mapping3D::world_to_texture(
+            Affine3A::from_mat4(self.state.ctm),
+            scale,
+            params.vec3("rotate")?.unwrap_or(Vec3::ZERO),
+            params.vec3("translate")?.unwrap_or(Vec3::ZERO),
+        );
+        let coordinates = params.string("coordinates")?;
+        Ok(match coordinates.as_deref().unwrap_or("global") {
+            "global" => Mapping3D::Global { world_to_texture },
+            "uv" => Mapping3D::Uv { world_to_texture },
+            other => {
+                self.warn(
+                    line,
+                    format!("texture coordinates \"{other}\" unsupported: global"),
+                );
+                Mapping3D::Global { world_to_texture }
+            }
+        })
+    }
+}
