@@ -29,6 +29,34 @@ impl Film {
         }
     }
 
+    /// A film from its saved sums and counts (a checkpoint); `None` if the sizes disagree.
+    pub fn from_parts(
+        width: u32,
+        height: u32,
+        sums: Vec<DVec3>,
+        counts: Vec<u64>,
+        rejected: u64,
+    ) -> Option<Self> {
+        let n = width as usize * height as usize;
+        (sums.len() == n && counts.len() == n).then_some(Self {
+            width,
+            height,
+            sums,
+            counts,
+            rejected,
+        })
+    }
+
+    /// Radiance sums per pixel (for checkpoints).
+    pub fn sums(&self) -> &[DVec3] {
+        &self.sums
+    }
+
+    /// Samples per pixel received (for checkpoints).
+    pub fn counts(&self) -> &[u64] {
+        &self.counts
+    }
+
     pub fn width(&self) -> u32 {
         self.width
     }

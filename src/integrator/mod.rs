@@ -37,6 +37,8 @@ pub struct Renderer {
     pub world: World,
     pass: Schedule,
     bounce: Schedule,
+    /// Passes already in the film (from a checkpoint): rendering goes on from there.
+    passes_done: u32,
 }
 
 /// What a render did.
@@ -103,6 +105,7 @@ impl Renderer {
             world,
             pass,
             bounce,
+            passes_done: 0,
         }
     }
 
@@ -205,13 +208,22 @@ impl Renderer {
         lines.join("\n")
     }
 
+    /// Continues from a film holding `passes` completed passes (a checkpoint of this scene with
+    /// the same settings): the passes rendered next draw the same random streams (seeded by seed,
+    /// pixel and pass) as an uninterrupted render, so the image is the same to the bit.
+    pub fn resume(&mut self, film: crate::film::Film, passes: u32) {
+        self.world.insert_resource(film);
+        self.passes_done = passes;
+    }
+
     /// Renders passes until the samples per pixel or the time limit are reached, or until
     /// `on_pass` (told after each pass how many are done) returns false.
     pub fn render(&mut self, mut on_pass: impl FnMut(u32) -> bool) -> RenderStats {
         let settings = self.world.resource::<RenderSettings>().clone();
         let start = Instant::now();
         let mut rays = 0u64;
-        let mut passes = 0;
+        let first = self.passes_done;
+        let mut passes = first;
         while passes < settings.samples_per_pixel {
             self.world.resource_mut::<PassIndex>().0 = passes;
             self.pass.run(&mut self.world);
@@ -222,6 +234,7 @@ impl Renderer {
                 rays += shadows.t_max.iter().filter(|t| **t > 0.0).count() as u64;
             }
             passes += 1;
+            self.passes_done = passes;
             let go_on = on_pass(passes);
             if !go_on
                 || settings
@@ -233,7 +246,7 @@ impl Renderer {
         }
         RenderStats {
             passes,
-            paths: passes as u64 * settings.pixel_count() as u64,
+            paths: u64::from(passes - first) * settings.path_count() as u64,
             rays,
             elapsed: start.elapsed(),
         }

@@ -33,7 +33,8 @@ pub fn start_pass(
     let width = settings.width;
     let seed = settings.seed;
     let pass = pass.0;
-    let n = settings.pixel_count();
+    let n = settings.path_count();
+    let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(n);
     (
@@ -52,7 +53,7 @@ pub fn start_pass(
         .with_min_len(1024)
         .for_each(
             |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
-                let i = i as u32;
+                let i = pixels.map_or(i as u32, |p| p[i]);
                 let centre = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
                 *pixel = i;
                 *film = centre

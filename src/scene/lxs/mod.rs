@@ -8,7 +8,7 @@ mod materials;
 mod params;
 mod parser;
 mod paths;
-mod ply;
+pub mod ply;
 mod shapes;
 mod tokenizer;
 
