@@ -24,8 +24,8 @@ pub mod exit {
 
 const EXIT_CODES: &str = "Exit codes:
   0    done (also when stopped by --time-limit)
-  1    scene error (unreadable or malformed scene, empty scene)
-  2    usage error (bad command line)
+  1    scene error (unreadable or malformed scene or checkpoint, empty scene)
+  2    usage error (bad command line; a checkpoint of another seed, size or crop)
   3    output error (unknown image format, missing folder, not writable)
   4    out of memory (the estimate exceeds the available memory)
   130  interrupted by SIGINT (Ctrl-C): the samples done are written
