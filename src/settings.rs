@@ -29,11 +29,19 @@ pub struct RenderSettings {
     pub integrator: IntegratorKind,
     /// Stop after the pass that crosses this wall-clock time.
     pub time_limit: Option<Duration>,
+    /// Only these pixels (y * width + x, ascending) get paths, for `--crop` and `--pixel`; every
+    /// pixel when `None`.
+    pub pixels: Option<Vec<u32>>,
 }
 
 impl RenderSettings {
     pub fn pixel_count(&self) -> usize {
         self.width as usize * self.height as usize
+    }
+
+    /// Camera paths in one pass: one per rendered pixel.
+    pub fn path_count(&self) -> usize {
+        self.pixels.as_ref().map_or(self.pixel_count(), Vec::len)
     }
 }
 

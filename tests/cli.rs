@@ -171,3 +171,461 @@ fn course_scenes_render_or_fail_clearly() {
         assert!(!out.exists());
     }
 }
+
+fn code(output: &Output) -> Option<i32> {
+    output.status.code()
+}
+
+/// A small scene written by a test: a lit floor seen from above (or `body` in its world).
+fn write_scene(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(
+        &path,
+        format!(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [40]\n\
+             Film \"fleximage\" \"integer xresolution\" [16] \"integer yresolution\" [12]\n\
+             WorldBegin\n{body}\nWorldEnd\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+const LIT_FLOOR: &str = "LightSource \"point\" \"point from\" [0 0 3] \"color L\" [10 10 10]\n\
+    Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \
+    \"point P\" [-2 -2 0 2 -2 0 2 2 0 -2 2 0]";
+
+/// The output is checked before the scene is even read: a broken scene with a bad output is an
+/// output error (3), not a scene error (1), and nothing is rendered.
+#[test]
+fn the_output_is_checked_before_loading() {
+    let dir = temp_dir("output-first");
+    let broken = dir.join("broken.lxs");
+    std::fs::write(&broken, "WorldBegin\nBogus [\n").unwrap();
+    std::fs::create_dir_all(dir.join("folder.png")).unwrap();
+    for (out, says) in [
+        (dir.join("x.tiff"), "unsupported image format"),
+        (dir.join("missing/x.png"), "does not exist"),
+        (dir.join("folder.png"), "is a folder"),
+    ] {
+        let output = foton(&[
+            "render",
+            broken.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code(&output), Some(3), "{}", stderr(&output));
+        assert!(stderr(&output).contains(says), "{}", stderr(&output));
+    }
+    let output = foton(&[
+        "render",
+        broken.to_str().unwrap(),
+        "-o",
+        dir.join("ok.png").to_str().unwrap(),
+    ]);
+    assert_eq!(code(&output), Some(1), "{}", stderr(&output));
+}
+
+/// Sizes that cannot fit are refused with both figures, never an abort.
+#[test]
+fn renders_too_large_for_memory_are_refused() {
+    let dir = temp_dir("memory");
+    let out = dir.join("big.png");
+    let output = foton(&[
+        "render",
+        &project_scene("default.lxs"),
+        "-o",
+        out.to_str().unwrap(),
+        "--resolution",
+        "65536x65536",
+    ]);
+    assert_eq!(code(&output), Some(4), "{}", stderr(&output));
+    let message = stderr(&output);
+    assert!(
+        message.contains("65536x65536") && message.contains("available"),
+        "{message}"
+    );
+    let huge = dir.join("huge.lxs");
+    std::fs::write(
+        &huge,
+        format!(
+            "Film \"fleximage\" \"integer xresolution\" [2000000] \"integer yresolution\" [2000000]\n\
+             WorldBegin\n{LIT_FLOOR}\nWorldEnd\n"
+        ),
+    )
+    .unwrap();
+    let output = foton(&[
+        "render",
+        huge.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&output), Some(4), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("2000000x2000000"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(!out.exists());
+}
+
+/// An empty scene is an error; a scene without lights renders, with a warning.
+#[test]
+fn empty_scenes_fail_and_unlit_scenes_warn() {
+    let dir = temp_dir("empty");
+    let empty = dir.join("empty.lxs");
+    std::fs::write(&empty, "").unwrap();
+    let out = dir.join("out.png");
+    let output = foton(&[
+        "render",
+        empty.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&output), Some(1), "{}", stderr(&output));
+    assert!(stderr(&output).contains("empty.lxs") && stderr(&output).contains("empty"));
+    assert!(!out.exists());
+    let unlit = write_scene(&dir, "unlit.lxs", "Shape \"sphere\" \"float radius\" [1]");
+    let output = foton(&[
+        "render",
+        unlit.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "1",
+    ]);
+    assert_eq!(code(&output), Some(0), "{}", stderr(&output));
+    assert!(stderr(&output).contains("no lights"), "{}", stderr(&output));
+}
+
+/// Starts a long render, waits until it renders (its `--verbose` description is printed just
+/// before), sends `signal`, and returns what it printed and its exit code.
+fn interrupted(
+    args: &[&str],
+    signal: &str,
+    wait_for_stdout_line: bool,
+) -> (Output, Option<String>) {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_foton"))
+        .args(args)
+        .arg("--verbose")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the foton binary runs");
+    let mut first_line = None;
+    if wait_for_stdout_line {
+        let mut line = String::new();
+        BufReader::new(child.stdout.as_mut().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        first_line = Some(line);
+    } else {
+        let mut stderr = BufReader::new(child.stderr.take().unwrap());
+        let mut line = String::new();
+        while stderr.read_line(&mut line).unwrap() > 0 && !line.contains("schedule") {
+            line.clear();
+        }
+        std::thread::spawn(move || std::io::copy(&mut stderr, &mut std::io::sink()));
+    }
+    let status = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    (child.wait_with_output().unwrap(), first_line)
+}
+
+/// SIGINT and SIGTERM keep the samples done: the image is written, the count said, the exit
+/// code 130 or 143; the checkpoint written with it resumes.
+#[test]
+fn interrupts_write_the_image_and_exit_130_or_143() {
+    let dir = temp_dir("interrupt");
+    for (signal, exit) in [("-INT", 130), ("-TERM", 143)] {
+        let out = dir.join(format!("interrupted{signal}.exr"));
+        let (output, _) = interrupted(
+            &[
+                "render",
+                &project_scene("default.lxs"),
+                "-o",
+                out.to_str().unwrap(),
+                "--spp",
+                "100000",
+                "--resolution",
+                "16x16",
+            ],
+            signal,
+            false,
+        );
+        assert_eq!(code(&output), Some(exit), "{signal}");
+        let (w, h, pixels) = read_exr(&out).expect("the interrupted render's image");
+        assert_eq!((w, h), (16, 16));
+        assert!(pixels.iter().any(|p| p.max_element() > 0.0));
+        assert!(
+            dir.join(format!("interrupted{signal}.exr.checkpoint"))
+                .exists()
+        );
+    }
+}
+
+/// `--repeat` interrupted after its first render keeps the first, complete image.
+#[test]
+fn an_interrupted_repeat_keeps_the_complete_image() {
+    let dir = temp_dir("repeat");
+    let out = dir.join("repeat.exr");
+    let args = [
+        "render",
+        &project_scene("default.lxs"),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "4",
+        "--resolution",
+        "16x16",
+        "--repeat",
+        "1000",
+    ];
+    let (output, first) = interrupted(&args, "-INT", true);
+    assert!(first.unwrap_or_default().contains("4 spp"));
+    assert_eq!(code(&output), Some(130), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("keeps the image"),
+        "{}",
+        stderr(&output)
+    );
+    // The kept image is a complete 4-spp render: the same as a fresh one.
+    let fresh = dir.join("fresh.exr");
+    let mut fresh_args = args[..8].to_vec();
+    fresh_args[3] = fresh.to_str().unwrap();
+    assert!(foton(&fresh_args).status.success());
+    assert_eq!(read_exr(&out).unwrap().2, read_exr(&fresh).unwrap().2);
+}
+
+/// Renders the diffuse Cornell box at 24x16, 6 spp, seed 7 (and `extra`) to `out`; its pixels.
+fn render_exr(out: &Path, extra: &[&str]) -> Vec<glam::Vec3> {
+    let mut args = vec![
+        "render",
+        project_scene_static(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--spp",
+        "6",
+        "--resolution",
+        "24x16",
+        "--seed",
+        "7",
+    ];
+    args.extend_from_slice(extra);
+    let output = foton(&args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    read_exr(out).expect("an EXR").2
+}
+
+fn project_scene_static() -> &'static str {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell-diffuse.lxs")
+}
+
+/// The same seed and spp give the same image to the bit with 1 and 2 threads, across runs, and
+/// after stopping (here at the time limit, which writes a checkpoint) and `--resume`.
+#[test]
+fn images_are_bit_identical_across_threads_runs_and_resume() {
+    let dir = temp_dir("determinism");
+    let one = render_exr(&dir.join("one.exr"), &["--threads", "1"]);
+    let two = render_exr(&dir.join("two.exr"), &["--threads", "2"]);
+    let again = render_exr(&dir.join("again.exr"), &["--threads", "2"]);
+    assert!(one == two && two == again);
+    let part = dir.join("part.exr");
+    let partial = render_exr(&part, &["--time-limit", "0", "--checkpoint", "1000"]);
+    assert_ne!(partial, one, "the time limit stops after the first pass");
+    let checkpoint = dir.join("part.exr.checkpoint");
+    assert!(checkpoint.exists());
+    let resumed = render_exr(
+        &dir.join("resumed.exr"),
+        &["--resume", checkpoint.to_str().unwrap()],
+    );
+    assert!(
+        resumed == one,
+        "a resumed render differs from an uninterrupted one"
+    );
+    // A checkpoint of another seed is refused.
+    let output = foton(&[
+        "render",
+        project_scene_static(),
+        "-o",
+        dir.join("x.exr").to_str().unwrap(),
+        "--resolution",
+        "24x16",
+        "--resume",
+        checkpoint.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&output), Some(2), "{}", stderr(&output));
+    assert!(stderr(&output).contains("--seed 7"), "{}", stderr(&output));
+}
+
+/// `--crop` renders only its window, to the same values the full render has there; `--pixel`
+/// prints one pixel's value.
+#[test]
+fn crop_and_pixel_render_part_of_the_image() {
+    let dir = temp_dir("crop");
+    let full = render_exr(&dir.join("full.exr"), &[]);
+    let crop = render_exr(&dir.join("crop.exr"), &["--crop", "3,11,5,9"]);
+    let expected: Vec<glam::Vec3> = (5..9)
+        .flat_map(|y| (3..11).map(move |x| (x, y)))
+        .map(|(x, y)| full[y * 24 + x])
+        .collect();
+    assert_eq!(crop, expected);
+    assert_eq!(read_exr(&dir.join("crop.exr")).unwrap().0, 8);
+    let output = foton(&[
+        "render",
+        project_scene_static(),
+        "-o",
+        dir.join("p.exr").to_str().unwrap(),
+        "--spp",
+        "6",
+        "--resolution",
+        "24x16",
+        "--seed",
+        "7",
+        "--pixel",
+        "12,8",
+    ]);
+    let p = full[8 * 24 + 12];
+    assert!(
+        stdout(&output).contains(&format!("pixel (12, 8): {} {} {}", p.x, p.y, p.z)),
+        "{}",
+        stdout(&output)
+    );
+    let output = foton(&[
+        "render",
+        project_scene_static(),
+        "--resolution",
+        "24x16",
+        "--crop",
+        "0,25,0,1",
+    ]);
+    assert_eq!(code(&output), Some(2), "{}", stderr(&output));
+}
+
+/// Exposure is a positive multiplier (or stops); it scales linear outputs too.
+#[test]
+fn exposure_is_validated_and_applied() {
+    let dir = temp_dir("exposure");
+    for bad in ["-1", "0", "nan"] {
+        let output = foton(&["render", project_scene_static(), "--exposure", bad]);
+        assert_eq!(code(&output), Some(2), "{bad}: {}", stderr(&output));
+        let message = stderr(&output);
+        assert!(
+            message.contains("expected a positive multiplier") && !message.contains("use '--"),
+            "{message}"
+        );
+    }
+    let plain = render_exr(&dir.join("plain.exr"), &[]);
+    let doubled = render_exr(&dir.join("doubled.exr"), &["--exposure", "2"]);
+    let stops = render_exr(&dir.join("stops.exr"), &["--exposure-stops", "-1"]);
+    for ((p, d), s) in plain.iter().zip(&doubled).zip(&stops) {
+        assert_eq!(*p * 2.0, *d);
+        assert_eq!(*p * 0.5, *s);
+    }
+}
+
+/// `--json` prints why the render stopped, spp, time, rates, warnings and rejected samples.
+#[test]
+fn json_summary_and_quiet() {
+    let dir = temp_dir("json");
+    let scene = write_scene(&dir, "s.lxs", &format!("Sampler \"sobolx\"\n{LIT_FLOOR}"));
+    let output = foton(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        dir.join("s.png").to_str().unwrap(),
+        "--spp",
+        "3",
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let json = stdout(&output);
+    for field in [
+        "\"stopped\": \"done\"",
+        "\"spp\": 3",
+        "\"seconds\": ",
+        "\"rays_per_second\": ",
+        "\"warnings\": 1",
+        "\"rejected_samples\": 0",
+    ] {
+        assert!(json.contains(field), "{field}: {json}");
+    }
+    assert_eq!(json.lines().count(), 1, "{json}");
+    let output = foton(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        dir.join("q.png").to_str().unwrap(),
+        "--spp",
+        "1",
+        "--quiet",
+    ]);
+    assert!(
+        output.status.success() && stdout(&output).is_empty(),
+        "{}",
+        stdout(&output)
+    );
+}
+
+/// Scenes exported as `untitled.lxs` get their folder's name, so they do not overwrite each other.
+#[test]
+fn default_output_names_do_not_collide() {
+    let dir = temp_dir("names");
+    let scene = write_scene(&dir, "pikachu/untitled.lxs", LIT_FLOOR);
+    let output = Command::new(env!("CARGO_BIN_EXE_foton"))
+        .args(["render", scene.to_str().unwrap(), "--spp", "1", "--quiet"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(dir.join("pikachu.png").exists());
+    assert!(!dir.join("untitled.png").exists());
+}
+
+/// Radiance `.hdr` environment maps light the scene.
+#[test]
+fn hdr_environment_maps_are_read() {
+    let dir = temp_dir("hdr");
+    let sky = image::Rgb32FImage::from_pixel(8, 4, image::Rgb([0.5f32, 1.0, 2.0]));
+    image::DynamicImage::ImageRgb32F(sky)
+        .save_with_format(dir.join("sky.hdr"), image::ImageFormat::Hdr)
+        .unwrap();
+    let scene = write_scene(
+        &dir,
+        "sky.lxs",
+        "LightSource \"infinite\" \"string mapname\" [\"sky.hdr\"]",
+    );
+    let out = dir.join("sky.exr");
+    let output = foton(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "1",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let (_, _, pixels) = read_exr(&out).unwrap();
+    // The camera sees the sky: every pixel is the map's constant radiance.
+    assert!(
+        pixels
+            .iter()
+            .all(|p| (*p - glam::Vec3::new(0.5, 1.0, 2.0)).abs().max_element() < 1e-2)
+    );
+}
+
+/// The exit codes are in `--help`.
+#[test]
+fn help_documents_the_exit_codes() {
+    let help = stdout(&foton(&["render", "--help"]));
+    for code in ["0 ", "1 ", "2 ", "3 ", "4 ", "130", "143"] {
+        assert!(help.contains(&format!("  {code}")), "{code}: {help}");
+    }
+}

@@ -1479,3 +1479,25 @@ fn random_mutations_of_a_course_scene_never_panic() {
     );
     fuzz(&inlined, &temp_folder("fuzz_cornell"), 300);
 }
+
+/// A type name LuxRender does not have (a typo, or another renderer's) is a warning naming the
+/// line and the name; LuxRender's names are not.
+#[test]
+fn unknown_type_names_are_warnings() {
+    let s = scene(
+        "unknown_types",
+        &format!(
+            "SurfaceIntegrator \"pathh\"\nSampler \"sobolx\"\nFilm \"rgb\" \"integer xresolution\" [8]\n\
+             Renderer \"samplr\"\nAccelerator \"qbvh\"\nSampler \"metropolis\"\n{WORLD}"
+        ),
+    );
+    let w = messages(&s);
+    assert_eq!(w.len(), 4, "{w:?}");
+    for (i, name) in ["pathh", "sobolx", "rgb", "samplr"].iter().enumerate() {
+        assert!(
+            w[i].contains(&format!(":{}: warning: unknown", i + 1)) && w[i].contains(name),
+            "{w:?}"
+        );
+    }
+    assert_eq!(s.film.x_resolution, 8);
+}

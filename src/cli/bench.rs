@@ -1,9 +1,8 @@
 //! `foton bench`: wavefront throughput on a scene, as the median of repeated renders measured
-//! in one process (these machines are shared and noisy: compare ratios from one run), and with
-//! `--stages` where the time goes, stage by stage.
+//! in one process (these machines are shared and noisy: compare ratios from one run).
 
-use super::SceneArgs;
-use super::render::{prepare, render_with_progress, summary};
+use super::render::{Stop, prepare, render_with_progress, summary};
+use super::{Failure, SceneArgs};
 use crate::integrator::{Renderer, StageTime};
 
 pub fn run(
@@ -11,40 +10,52 @@ pub fn run(
     repeat: u32,
     stages: bool,
     chunk_paths: Option<usize>,
-) -> Result<(), String> {
-    let setup = |renderer: &mut Renderer| {
+) -> Result<(), Failure> {
+    let prepare_run = || -> Result<Renderer, Failure> {
+        let mut renderer = prepare(args)?;
         if let Some(paths) = chunk_paths {
             renderer.set_chunk_paths(paths);
         }
         if stages {
             renderer.time_stages();
         }
+        Ok(renderer)
     };
-    let mut warm_up = prepare(args)?;
-    setup(&mut warm_up.renderer);
-    println!(
-        "warm-up: {}",
-        summary(&render_with_progress(&mut warm_up.renderer))
-    );
+    let (warm_up, stop) = render_with_progress(&mut prepare_run()?)?;
+    println!("warm-up: {}", summary(&warm_up));
     let mut rates = Vec::new();
     let mut runs = Vec::new();
-    for i in 0..repeat.max(1) {
-        let mut prepared = prepare(args)?;
-        setup(&mut prepared.renderer);
-        let stats = render_with_progress(&mut prepared.renderer);
-        println!("run {}: {}", i + 1, summary(&stats));
-        rates.push(stats.paths_per_second() / 1e6);
-        if let Some(times) = prepared.renderer.stage_times() {
-            runs.push(times.to_vec());
+    if stop != Stop::Interrupted {
+        for i in 0..repeat.max(1) {
+            let mut renderer = prepare_run()?;
+            let (stats, stop) = render_with_progress(&mut renderer)?;
+            if stop == Stop::Interrupted {
+                // A partial run would skew the median.
+                break;
+            }
+            println!("run {}: {}", i + 1, summary(&stats));
+            rates.push(stats.paths_per_second() / 1e6);
+            if let Some(times) = renderer.stage_times() {
+                runs.push(times.to_vec());
+            }
         }
+    }
+    if rates.is_empty() {
+        eprintln!("interrupted: no timed run finished");
+        return Ok(());
     }
     rates.sort_by(f64::total_cmp);
     println!(
-        "median {:.3} M paths/s over {} runs (min {:.3}, max {:.3})",
+        "median {:.3} M paths/s over {} runs (min {:.3}, max {:.3}){}",
         rates[rates.len() / 2],
         rates.len(),
         rates[0],
-        rates[rates.len() - 1]
+        rates[rates.len() - 1],
+        if rates.len() < repeat.max(1) as usize {
+            " (interrupted)"
+        } else {
+            ""
+        }
     );
     if !runs.is_empty() {
         print_stages(&runs);

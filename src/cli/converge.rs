@@ -64,9 +64,9 @@ pub fn run(args: &ConvergeArgs) -> Result<(), String> {
             let mut scene = parsed.scene.clone();
             scene.spp = Some(spp);
             scene.resolution = Some((width, height));
-            let mut prepared = prepare(&scene)?;
-            let stats = prepared.renderer.render(|_| true);
-            let image = prepared.renderer.world.resource::<Film>().mean();
+            let mut renderer = prepare(&scene).map_err(|failure| failure.message)?;
+            let stats = renderer.render(|_| true);
+            let image = renderer.world.resource::<Film>().mean();
             let point = Point {
                 configuration: label.trim().to_string(),
                 seconds: stats.elapsed.as_secs_f64(),

@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod converge;
+mod interrupt;
 mod render;
 
 use std::path::PathBuf;
@@ -19,11 +20,45 @@ use crate::sampling::SamplerKind;
 use crate::scene::build::RenderOptions;
 use crate::settings::{IntegratorKind, Techniques};
 
+/// Exit codes, documented in `--help` and the README.
+pub mod exit {
+    pub const SCENE_ERROR: u8 = 1;
+    pub const USAGE: u8 = 2;
+    pub const OUTPUT_ERROR: u8 = 3;
+    pub const OUT_OF_MEMORY: u8 = 4;
+}
+
+const EXIT_CODES: &str = "Exit codes:
+  0    done (also when stopped by --time-limit)
+  1    scene error (unreadable or malformed scene or checkpoint, empty scene)
+  2    usage error (bad command line; a checkpoint of another seed, size or crop)
+  3    output error (unknown image format, missing folder, not writable)
+  4    out of memory (the estimate exceeds the available memory)
+  130  interrupted by SIGINT (Ctrl-C): the samples done are written
+  143  interrupted by SIGTERM: the samples done are written";
+
+/// Why a command failed: the message for the user and the exit code.
+#[derive(Debug)]
+pub struct Failure {
+    pub code: u8,
+    pub message: String,
+}
+
+impl Failure {
+    pub fn new(code: u8, message: impl Into<String>) -> Self {
+        Self {
+            code,
+            message: message.into(),
+        }
+    }
+}
+
 #[derive(Parser, Debug)]
 #[command(
     name = "foton",
     version,
-    about = "A physically based wavefront path tracer for LuxRender scenes"
+    about = "A physically based wavefront path tracer for LuxRender scenes",
+    after_help = EXIT_CODES
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -32,7 +67,8 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Render a scene to an image (.png tone-mapped, .exr linear).
+    /// Render a scene to an image (.png, .jpg tone-mapped; .exr, .hdr, .pfm linear).
+    #[command(after_help = EXIT_CODES)]
     Render(RenderArgs),
     /// Measure wavefront throughput: render a scene several times, report the median.
     Bench(BenchArgs),
@@ -133,18 +169,49 @@ pub struct SceneArgs {
 }
 
 #[derive(Args, Debug)]
-struct RenderArgs {
+pub struct RenderArgs {
     #[command(flatten)]
-    scene: SceneArgs,
-    /// Output image (.png or .exr); default: the scene's name with .png, in this folder.
+    pub scene: SceneArgs,
+    /// Output image: .png, .jpg (tone-mapped, 8-bit sRGB), .exr (ZIP, 32-bit float, with the
+    /// render's settings as metadata), .hdr, .pfm (linear). Default: the scene's name with .png
+    /// in this folder (the scene's folder name for a scene file named `untitled`).
     #[arg(long, short)]
-    output: Option<PathBuf>,
-    /// Linear exposure for the PNG instead of the scene's tone mapping.
-    #[arg(long)]
-    exposure: Option<f32>,
+    pub output: Option<PathBuf>,
+    /// A positive multiplier on linear radiance in place of the scene's tone mapping (for every
+    /// format; linear formats are otherwise written unscaled).
+    #[arg(
+        long,
+        value_parser = parse_positive,
+        allow_negative_numbers = true,
+        conflicts_with = "exposure_stops"
+    )]
+    pub exposure: Option<f32>,
+    /// The same in photographic stops: a multiplier of 2^STOPS (negative darkens).
+    #[arg(long, value_parser = parse_in(-64.0, 64.0), allow_negative_numbers = true)]
+    pub exposure_stops: Option<f32>,
     /// Render this many times and report each time and the median (the original's -benchmark).
-    #[arg(long, default_value_t = 1)]
-    repeat: u32,
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeat: u32,
+    /// Write the image and a resumable checkpoint (OUTPUT.checkpoint) every this many seconds.
+    #[arg(long, value_parser = parse_in(0.001, f32::MAX))]
+    pub checkpoint: Option<f32>,
+    /// Continue from a checkpoint written by --checkpoint or an interruption, to the image an
+    /// uninterrupted render gives (same scene, seed, resolution and crop).
+    #[arg(long)]
+    pub resume: Option<PathBuf>,
+    /// Render only pixels x0 <= x < x1, y0 <= y < y1; the image is the crop's size.
+    #[arg(long, value_parser = parse_crop, conflicts_with = "pixel")]
+    pub crop: Option<[u32; 4]>,
+    /// Render only this pixel, print its value, and write a 1x1 image.
+    #[arg(long, value_parser = parse_pixel)]
+    pub pixel: Option<(u32, u32)>,
+    /// Print nothing but warnings and errors (no progress, no summary).
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Print a JSON summary on stdout at the end: why the render stopped, spp, seconds, rays/s,
+    /// warnings, rejected samples.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Args, Debug)]
@@ -238,6 +305,7 @@ impl SceneArgs {
                 FitArg::Ellipse => FisheyeFit::Ellipse,
                 FitArg::Circle => FisheyeFit::Circle,
             },
+            pixels: None,
         }
     }
 }
@@ -260,6 +328,40 @@ fn parse_in(min: f32, max: f32) -> impl Fn(&str) -> Result<f32, String> + Clone 
     }
 }
 
+/// A finite number above zero.
+fn parse_positive(text: &str) -> Result<f32, String> {
+    text.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .ok_or_else(|| format!("expected a positive multiplier, got {text:?}"))
+}
+
+/// `x0,x1,y0,y1`, each range non-empty.
+fn parse_crop(text: &str) -> Result<[u32; 4], String> {
+    let v: Vec<u32> = text
+        .split(',')
+        .map(|s| s.trim().parse::<u32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected x0,x1,y0,y1 (pixels), got {text:?}"))?;
+    match v[..] {
+        [x0, x1, y0, y1] if x0 < x1 && y0 < y1 => Ok([x0, x1, y0, y1]),
+        _ => Err(format!(
+            "expected x0,x1,y0,y1 with x0 < x1 and y0 < y1, got {text:?}"
+        )),
+    }
+}
+
+/// `x,y`.
+fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected x,y (pixels), got {text:?}");
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    Ok((
+        x.trim().parse().map_err(|_| bad())?,
+        y.trim().parse().map_err(|_| bad())?,
+    ))
+}
+
 fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text
         .split_once(['x', 'X'])
@@ -274,19 +376,22 @@ fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
     Ok((parse(w)?, parse(h)?))
 }
 
-/// Runs the command line; errors are printed, and give a non-zero exit code.
+/// Runs the command line; errors are printed, and give the exit codes of `EXIT_CODES`.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
-    render::stop_gracefully_on_interrupt();
+    if let Err(e) = interrupt::install() {
+        eprintln!("warning: cannot catch interrupts ({e}): Ctrl-C will lose the render");
+    }
     let result = match cli.command {
-        Command::Render(args) => render::run(&args.scene, args.output, args.exposure, args.repeat),
+        Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(
             &args.scene,
             args.repeat,
             args.stages,
             args.chunk_paths.map(|n| n as usize),
         ),
-        Command::Compare(args) => compare::run(&args.a, &args.b, args.diff, args.json),
+        Command::Compare(args) => compare::run(&args.a, &args.b, args.diff, args.json)
+            .map_err(|message| Failure::new(exit::SCENE_ERROR, message)),
         Command::Converge(args) => converge::run(&converge::ConvergeArgs {
             scene: &args.scene,
             reference: &args.reference,
@@ -294,13 +399,15 @@ pub fn run() -> ExitCode {
             spp: &args.spp,
             peers: &args.peers,
             output: &args.output,
-        }),
+        })
+        .map_err(|message| Failure::new(exit::SCENE_ERROR, message)),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("{message}");
-            ExitCode::FAILURE
+    let code = match result {
+        Ok(()) => 0,
+        Err(failure) => {
+            eprintln!("{}", failure.message);
+            failure.code
         }
-    }
+    };
+    ExitCode::from(interrupt::exit_code().unwrap_or(code))
 }

@@ -106,6 +106,57 @@ impl Film {
         self.splat = Some(SplatFilter::new(&filter));
     }
 
+    /// A film from its saved sums, weights and counts (a checkpoint); `None` if the sizes
+    /// disagree. Its reconstruction is filter importance sampling until [`Film::restore`] moves
+    /// the sums into a film that splats.
+    pub fn from_parts(
+        width: u32,
+        height: u32,
+        sums: Vec<DVec3>,
+        weights: Vec<f64>,
+        counts: Vec<u64>,
+        rejected: u64,
+    ) -> Option<Self> {
+        let n = width as usize * height as usize;
+        (sums.len() == n && weights.len() == n && counts.len() == n).then_some(Self {
+            width,
+            height,
+            sums,
+            weights,
+            counts,
+            rejected,
+            splat: None,
+        })
+    }
+
+    /// Takes `saved`'s sums, weights and counts (a checkpoint of a film of the same size),
+    /// keeping this film's reconstruction; false, and nothing taken, if the sizes differ.
+    pub fn restore(&mut self, saved: Film) -> bool {
+        if (saved.width, saved.height) != (self.width, self.height) {
+            return false;
+        }
+        self.sums = saved.sums;
+        self.weights = saved.weights;
+        self.counts = saved.counts;
+        self.rejected = saved.rejected;
+        true
+    }
+
+    /// Weighted radiance sums per pixel (for checkpoints).
+    pub fn sums(&self) -> &[DVec3] {
+        &self.sums
+    }
+
+    /// Weight sums per pixel (for checkpoints).
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// Samples per pixel received (for checkpoints).
+    pub fn counts(&self) -> &[u64] {
+        &self.counts
+    }
+
     pub fn width(&self) -> u32 {
         self.width
     }

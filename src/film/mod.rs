@@ -1,6 +1,7 @@
 //! The film: pixel filtering by importance sampling or splatting, accumulation of radiance, exposure, image
 //! output and image comparison.
 
+pub mod checkpoint;
 #[allow(clippy::module_inception)]
 mod film;
 pub mod filter;
@@ -9,5 +10,7 @@ pub mod tonemap;
 
 pub use film::{Film, Reconstruction};
 pub use filter::{FilterKind, PixelFilter};
-pub use output::{read_exr, read_png_linear, write_image};
+pub use output::{
+    ImageMetadata, check_output, is_linear_output, read_exr, read_png_linear, write_image,
+};
 pub use tonemap::{ToneMap, apply_display_tone_map, exposure_scale, luminance};

@@ -1,15 +1,98 @@
-//! Writing and reading images: 8-bit sRGB PNG for display, 32-bit float EXR for data.
+//! Writing and reading images: 8-bit sRGB PNG and JPEG for display; EXR (ZIP-compressed 32-bit
+//! float, with the render's metadata), Radiance HDR and PFM for linear data.
 
 use std::ffi::OsString;
 use std::fs;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use exr::meta::attribute::{AttributeValue, Text};
+use exr::prelude::{
+    Encoding, Image as ExrImage, Layer, LayerAttributes, SpecificChannels, WritableImage,
+};
 use glam::Vec3;
 use image::{DynamicImage, ImageFormat, Rgb32FImage, RgbImage};
 
+/// The extensions `write_image` understands, and whether each stores linear values.
+pub const OUTPUT_FORMATS: &[(&str, bool)] = &[
+    ("png", false),
+    ("jpg", false),
+    ("jpeg", false),
+    ("exr", true),
+    ("hdr", true),
+    ("pfm", true),
+];
+
+/// What the render was, stored in formats that carry metadata (EXR).
+#[derive(Clone, Debug, Default)]
+pub struct ImageMetadata {
+    pub samples_per_pixel: u32,
+    pub seconds: f64,
+    pub seed: u64,
+    pub command_line: String,
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
+/// Whether `path` names a linear (floating-point) format; an error for an unknown extension.
+pub fn is_linear_output(path: &Path) -> Result<bool, String> {
+    let extension = extension(path).unwrap_or_default();
+    OUTPUT_FORMATS
+        .iter()
+        .find(|(e, _)| *e == extension)
+        .map(|&(_, linear)| linear)
+        .ok_or_else(|| {
+            let names: Vec<String> = OUTPUT_FORMATS
+                .iter()
+                .map(|(e, _)| format!(".{e}"))
+                .collect();
+            format!(
+                "{}: unsupported image format (supported: {})",
+                path.display(),
+                names.join(", ")
+            )
+        })
+}
+
+/// Checks before rendering that an image can be written at `path`: a known extension, an existing
+/// folder, not a folder itself, and a folder that takes a new file (tried with the temporary
+/// file `write_image` would use, then removed).
+pub fn check_output(path: &Path) -> Result<(), String> {
+    is_linear_output(path)?;
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Err(format!(
+            "{}: the folder {} does not exist",
+            path.display(),
+            folder.display()
+        ));
+    }
+    if path.is_dir() {
+        return Err(format!("{}: is a folder", path.display()));
+    }
+    let probe = temporary_path(path);
+    fs::File::create(&probe).map_err(|e| {
+        format!(
+            "{}: cannot write in {}: {e}",
+            path.display(),
+            folder.display()
+        )
+    })?;
+    // Best effort: the probe was just made.
+    let _ = fs::remove_file(&probe);
+    Ok(())
+}
+
 /// Writes `pixels` (linear RGB, rows from the top) to `path`, by its extension:
-/// `.png`: pixels * exposure, clamped to [0, 1], sRGB-encoded to 8 bits;
-/// `.exr`: the linear values as 32-bit floats (no exposure).
+/// `.png`, `.jpg`: pixels * exposure, clamped to [0, 1], sRGB-encoded to 8 bits;
+/// `.exr` (ZIP, 32-bit float, with `metadata`), `.hdr`, `.pfm`: pixels * exposure, linear.
 /// The image goes to a temporary file beside `path` that is then renamed over it, so a failed
 /// write never leaves a truncated image.
 pub fn write_image(
@@ -18,6 +101,7 @@ pub fn write_image(
     height: u32,
     pixels: &[Vec3],
     exposure: f32,
+    metadata: &ImageMetadata,
 ) -> Result<(), String> {
     let expected = width as usize * height as usize;
     if pixels.len() != expected {
@@ -27,49 +111,116 @@ pub fn write_image(
             pixels.len()
         ));
     }
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let (image, format) = match extension.as_deref() {
-        Some("png") => {
-            let bytes = pixels
-                .iter()
-                .flat_map(|&p| (p * exposure).to_array())
-                .map(encode_srgb8)
-                .collect();
-            (
-                RgbImage::from_raw(width, height, bytes).map(DynamicImage::ImageRgb8),
-                ImageFormat::Png,
-            )
-        }
-        Some("exr") => {
-            let floats = pixels.iter().flat_map(|p| p.to_array()).collect();
-            (
-                Rgb32FImage::from_raw(width, height, floats).map(DynamicImage::ImageRgb32F),
-                ImageFormat::OpenExr,
-            )
-        }
-        _ => {
-            return Err(format!(
-                "{}: unsupported image format (supported: .png, .exr)",
-                path.display()
-            ));
-        }
-    };
-    let image = image.ok_or_else(|| format!("{}: image buffer size mismatch", path.display()))?;
+    is_linear_output(path)?;
+    let scaled: Vec<Vec3> = pixels.iter().map(|&p| p * exposure).collect();
     let temporary = temporary_path(path);
-    let written = image
-        .save_with_format(&temporary, format)
-        .map_err(|e| format!("{}: {e}", path.display()))
-        .and_then(|()| {
-            fs::rename(&temporary, path).map_err(|e| format!("{}: {e}", path.display()))
-        });
+    let written = match extension(path).as_deref() {
+        Some("exr") => write_exr(&temporary, width, height, &scaled, metadata),
+        Some("pfm") => write_pfm(&temporary, width, height, &scaled),
+        Some("hdr") => save(
+            &temporary,
+            float_image(width, height, &scaled),
+            ImageFormat::Hdr,
+        ),
+        Some("png") => save(
+            &temporary,
+            srgb8_image(width, height, &scaled),
+            ImageFormat::Png,
+        ),
+        _ => save(
+            &temporary,
+            srgb8_image(width, height, &scaled),
+            ImageFormat::Jpeg,
+        ),
+    }
+    .and_then(|()| fs::rename(&temporary, path).map_err(|e| e.to_string()))
+    .map_err(|e| format!("{}: {e}", path.display()));
     if written.is_err() {
         // Best effort: the temporary may not exist.
         let _ = fs::remove_file(&temporary);
     }
     written
+}
+
+fn srgb8_image(width: u32, height: u32, pixels: &[Vec3]) -> Option<DynamicImage> {
+    let bytes = pixels
+        .iter()
+        .flat_map(|p| p.to_array())
+        .map(encode_srgb8)
+        .collect();
+    RgbImage::from_raw(width, height, bytes).map(DynamicImage::ImageRgb8)
+}
+
+fn float_image(width: u32, height: u32, pixels: &[Vec3]) -> Option<DynamicImage> {
+    let floats = pixels.iter().flat_map(|p| p.to_array()).collect();
+    Rgb32FImage::from_raw(width, height, floats).map(DynamicImage::ImageRgb32F)
+}
+
+fn save(path: &Path, image: Option<DynamicImage>, format: ImageFormat) -> Result<(), String> {
+    image
+        .ok_or("image buffer size mismatch")?
+        .save_with_format(path, format)
+        .map_err(|e| e.to_string())
+}
+
+/// OpenEXR, ZIP-compressed scan lines of 32-bit floats; the render's settings as attributes
+/// (`foton:spp`, `foton:seconds`, `foton:seed`, `foton:command`) and the software's name.
+fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    metadata: &ImageMetadata,
+) -> Result<(), String> {
+    let text = |s: &str| {
+        Text::new_or_none(s).unwrap_or_else(|| {
+            let ascii: String = s
+                .chars()
+                .map(|c| if c.is_ascii() { c } else { '?' })
+                .collect();
+            Text::new_or_none(ascii).unwrap_or_default()
+        })
+    };
+    let mut attributes = LayerAttributes::named("");
+    attributes.software_name = Some(text("foton"));
+    for (name, value) in [
+        ("foton:spp", metadata.samples_per_pixel.to_string()),
+        ("foton:seconds", format!("{:.3}", metadata.seconds)),
+        ("foton:seed", metadata.seed.to_string()),
+        ("foton:command", metadata.command_line.clone()),
+    ] {
+        attributes
+            .other
+            .insert(text(name), AttributeValue::Text(text(&value)));
+    }
+    let w = width as usize;
+    let channels = SpecificChannels::rgb(|p: exr::math::Vec2<usize>| {
+        let v = pixels[p.y() * w + p.x()];
+        (v.x, v.y, v.z)
+    });
+    let layer = Layer::new(
+        (w, height as usize),
+        attributes,
+        Encoding::SMALL_LOSSLESS,
+        channels,
+    );
+    ExrImage::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| e.to_string())
+}
+
+/// Portable float map: `PF`, the size, -1 for little-endian, then rows from the bottom.
+fn write_pfm(path: &Path, width: u32, height: u32, pixels: &[Vec3]) -> Result<(), String> {
+    let mut bytes = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    for row in pixels.chunks_exact(width.max(1) as usize).rev() {
+        for v in row.iter().flat_map(|p| p.to_array()) {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    fs::File::create(path)
+        .and_then(|mut f| f.write_all(&bytes))
+        .map_err(|e| e.to_string())
 }
 
 /// Reads an EXR file as linear RGB (alpha dropped).
@@ -99,7 +250,7 @@ fn open(path: &Path, format: ImageFormat) -> Result<DynamicImage, String> {
 }
 
 /// `dir/.name.tmp-<pid>`: same directory (so the rename is atomic), hidden, per process.
-fn temporary_path(path: &Path) -> PathBuf {
+pub(crate) fn temporary_path(path: &Path) -> PathBuf {
     let mut name = OsString::from(".");
     name.push(path.file_name().unwrap_or_default());
     name.push(format!(".tmp-{}", std::process::id()));
@@ -142,17 +293,76 @@ mod tests {
     }
 
     #[test]
-    fn exr_round_trip_is_exact() {
+    fn linear_formats_round_trip_with_exposure_and_exr_metadata() {
         let pixels: Vec<Vec3> = (0..6)
             .map(|i| Vec3::new(i as f32 * 0.1, 1e-7 * i as f32, 1234.5678 + i as f32))
             .collect();
+        let metadata = ImageMetadata {
+            samples_per_pixel: 7,
+            seconds: 1.5,
+            seed: 99,
+            command_line: "foton render x.lxs".into(),
+        };
         let path = scratch("round.exr");
-        write_image(&path, 3, 2, &pixels, 100.0)
-            .map_err(|e| panic!("{e}"))
-            .ok();
+        write_image(&path, 3, 2, &pixels, 2.0, &metadata).unwrap_or_else(|e| panic!("{e}"));
         let (w, h, read) = read_exr(&path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!((w, h), (3, 2));
-        assert_eq!(read, pixels);
+        let doubled: Vec<Vec3> = pixels.iter().map(|&p| p * 2.0).collect();
+        assert_eq!(read, doubled);
+        let meta =
+            exr::meta::MetaData::read_from_file(&path, false).unwrap_or_else(|e| panic!("{e}"));
+        let header = &meta.headers[0];
+        assert_eq!(header.compression, exr::compression::Compression::ZIP16);
+        let attribute = |name: &str| {
+            header
+                .own_attributes
+                .other
+                .get(&Text::new_or_none(name).unwrap_or_default())
+                .cloned()
+        };
+        assert_eq!(
+            attribute("foton:spp"),
+            Some(AttributeValue::Text(
+                Text::new_or_none("7").unwrap_or_default()
+            ))
+        );
+        assert_eq!(
+            attribute("foton:command"),
+            Some(AttributeValue::Text(
+                Text::new_or_none("foton render x.lxs").unwrap_or_default()
+            ))
+        );
+        // Radiance HDR reads back through the image crate, to its 8-bit mantissas.
+        let path = scratch("round.hdr");
+        write_image(&path, 3, 2, &pixels, 1.0, &metadata).unwrap_or_else(|e| panic!("{e}"));
+        let image = image::open(&path)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .into_rgb32f();
+        assert_eq!((image.width(), image.height()), (3, 2));
+        for (p, q) in image.pixels().zip(&pixels) {
+            let p = Vec3::from_array(p.0);
+            // Shared exponent: each channel within 1/128 of the largest one.
+            assert!(
+                (p - *q).abs().max_element() <= q.max_element() / 128.0,
+                "{p} vs {q}"
+            );
+        }
+        // PFM: a text header, then little-endian floats with the bottom row first.
+        let path = scratch("round.pfm");
+        write_image(&path, 3, 2, &pixels, 1.0, &metadata).unwrap_or_else(|e| panic!("{e}"));
+        let bytes = fs::read(&path).unwrap_or_default();
+        let header = b"PF\n3 2\n-1.0\n";
+        assert_eq!(&bytes[..header.len()], header);
+        let floats: Vec<f32> = bytes[header.len()..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        let bottom_up: Vec<f32> = pixels[3..]
+            .iter()
+            .chain(&pixels[..3])
+            .flat_map(|p| p.to_array())
+            .collect();
+        assert_eq!(floats, bottom_up);
         let _ = fs::remove_file(&path);
     }
 
@@ -167,7 +377,8 @@ mod tests {
             Vec3::new(0.108, f32::NAN, -1.0),
         ];
         let path = scratch("codes.png");
-        write_image(&path, 3, 1, &pixels, 2.0).unwrap_or_else(|e| panic!("{e}"));
+        write_image(&path, 3, 1, &pixels, 2.0, &ImageMetadata::default())
+            .unwrap_or_else(|e| panic!("{e}"));
         let bytes = image::open(&path)
             .unwrap_or_else(|e| panic!("{e}"))
             .into_rgb8()
@@ -181,18 +392,25 @@ mod tests {
     #[test]
     fn write_rejects_bad_extension_and_size_without_leaving_files() {
         let path = scratch("image.tiff");
-        let e = write_image(&path, 1, 1, &[Vec3::ONE], 1.0)
+        let e = write_image(&path, 1, 1, &[Vec3::ONE], 1.0, &ImageMetadata::default())
             .err()
             .unwrap_or_default();
         assert!(
             e.contains("image.tiff") && e.contains(".png") && e.contains(".exr"),
             "{e}"
         );
-        let e = write_image(&scratch("short.png"), 2, 2, &[Vec3::ONE], 1.0);
+        let e = write_image(
+            &scratch("short.png"),
+            2,
+            2,
+            &[Vec3::ONE],
+            1.0,
+            &ImageMetadata::default(),
+        );
         assert!(e.is_err());
         // A directory that does not exist: the error names the path, nothing is left behind.
         let missing = scratch("no-such-dir").join("x.png");
-        let e = write_image(&missing, 1, 1, &[Vec3::ONE], 1.0)
+        let e = write_image(&missing, 1, 1, &[Vec3::ONE], 1.0, &ImageMetadata::default())
             .err()
             .unwrap_or_default();
         assert!(e.contains("x.png"), "{e}");

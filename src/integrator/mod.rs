@@ -56,6 +56,8 @@ pub struct Renderer {
     chunk_paths: usize,
     /// Time and work per stage, when asked for: the chunk start first, then the bounce stages.
     stage_times: Option<Vec<StageTime>>,
+    /// Passes already in the film (from a checkpoint): rendering goes on from there.
+    passes_done: u32,
 }
 
 /// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
@@ -172,6 +174,7 @@ impl Renderer {
             bounce,
             chunk_paths: DEFAULT_CHUNK_PATHS,
             stage_times: None,
+            passes_done: 0,
         }
     }
 
@@ -304,16 +307,30 @@ impl Renderer {
         lines.join("\n")
     }
 
+    /// Continues from a film holding `passes` completed passes (a checkpoint of this scene with
+    /// the same settings): the passes rendered next draw the same random streams (seeded by seed,
+    /// pixel and pass) as an uninterrupted render, so the image is the same to the bit.
+    /// Returns false, and changes nothing, if the film's size is not this render's.
+    pub fn resume(&mut self, film: crate::film::Film, passes: u32) -> bool {
+        let restored = self.world.resource_mut::<crate::film::Film>().restore(film);
+        if restored {
+            self.passes_done = passes;
+        }
+        restored
+    }
+
     /// Renders passes until the samples per pixel or the time limit (checked at the end of each
     /// pass) are reached, or until `on_progress`, told after each chunk how far the render is,
     /// returns false.
     pub fn render(&mut self, mut on_progress: impl FnMut(Progress) -> bool) -> RenderStats {
         let settings = self.world.resource::<RenderSettings>().clone();
-        let pixels = settings.pixel_count();
+        let pixels = settings.path_count();
         let chunk = self.chunk_paths.min(pixels.max(1));
         let paths_total = u64::from(settings.samples_per_pixel) * pixels as u64;
         let start = Instant::now();
-        let (mut rays, mut paths, mut passes) = (0u64, 0u64, 0u32);
+        let (mut rays, mut paths) = (0u64, 0u64);
+        let mut passes = self.passes_done;
+        let resumed_paths = u64::from(passes) * pixels as u64;
         let mut complete_passes = true;
         'passes: while passes < settings.samples_per_pixel {
             self.world.resource_mut::<PassIndex>().0 = passes;
@@ -328,15 +345,17 @@ impl Renderer {
                 let pass_done = first + count == pixels;
                 passes += u32::from(pass_done);
                 let progress = Progress {
-                    paths_done: paths,
+                    paths_done: resumed_paths + paths,
                     paths_total,
                     passes_done: passes,
                 };
                 if !on_progress(progress) {
                     complete_passes = pass_done;
+                    self.passes_done = passes;
                     break 'passes;
                 }
             }
+            self.passes_done = passes;
             if settings
                 .time_limit
                 .is_some_and(|limit| start.elapsed() >= limit)

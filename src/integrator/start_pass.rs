@@ -43,6 +43,7 @@ pub fn start_pass(
     let pass = pass.0;
     let first = chunk.first;
     let sampler = sampling.sampler.pass(pass);
+    let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
     (
@@ -61,7 +62,9 @@ pub fn start_pass(
         .with_min_len(1024)
         .for_each(
             |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
-                let i = first + i as u32;
+                // Path `first + i` of the pass: its pixel, or the crop's pixel list's entry.
+                let path = first as usize + i;
+                let i = pixels.map_or(path as u32, |p| p[path]);
                 let centre = Vec2::new(
                     width.remainder(i) as f32 + 0.5,
                     width.quotient(i) as f32 + 0.5,

@@ -44,6 +44,8 @@ pub struct RenderOptions {
     pub lens_radius: Option<f32>,
     pub fisheye_fov: Option<f32>,
     pub fisheye_fit: FisheyeFit,
+    /// Render only these pixels (see `RenderSettings::pixels`).
+    pub pixels: Option<Vec<u32>>,
 }
 
 impl Default for RenderOptions {
@@ -61,6 +63,7 @@ impl Default for RenderOptions {
             lens_radius: None,
             fisheye_fov: None,
             fisheye_fit: FisheyeFit::Ellipse,
+            pixels: None,
         }
     }
 }
@@ -89,6 +92,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
         sampler: options.sampler,
         integrator: options.integrator,
         time_limit: options.time_limit,
+        pixels: options.pixels.clone(),
     };
 
     spawn_camera(&mut world, &desc, options, width, height, &mut notes);

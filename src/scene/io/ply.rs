@@ -2,7 +2,7 @@
 //! triangles.
 
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
@@ -44,10 +44,14 @@ fn index_list(element: &DefaultElement) -> Option<Vec<i64>> {
 /// Reads one PLY file into a triangle mesh; the message says what is wrong with the file.
 pub fn read(path: &Path) -> Result<Geometry, String> {
     let file = File::open(path).map_err(|e| e.to_string())?;
-    let mut reader = BufReader::new(file);
+    parse(&mut BufReader::new(file))
+}
+
+/// Reads a PLY file's bytes into a triangle mesh (the fuzzer's entry point).
+pub fn parse(reader: &mut impl BufRead) -> Result<Geometry, String> {
     // ply-rs panics on some malformed headers: turn that into an error too.
     let ply = catch_unwind(AssertUnwindSafe(|| {
-        Parser::<DefaultElement>::new().read_ply(&mut reader)
+        Parser::<DefaultElement>::new().read_ply(reader)
     }))
     .map_err(|_| "malformed PLY file".to_string())?
     .map_err(|e| e.to_string())?;

@@ -51,6 +51,44 @@ impl Block {
 /// Directives LuxBlend writes that say nothing foton uses.
 const IGNORED_DIRECTIVES: &[&str] = &["Renderer", "Accelerator", "VolumeIntegrator", "LightGroup"];
 
+/// The type names LuxRender 1.x registers for the directives whose type foton does not act on
+/// (lux core/dynload registrations, and `multiimage` of older exporters); any other name is a
+/// typo or another renderer's and gets a warning.
+const KNOWN_TYPES: &[(&str, &[&str])] = &[
+    ("Film", &["fleximage", "multiimage"]),
+    (
+        "Sampler",
+        &["metropolis", "lowdiscrepancy", "random", "erpt", "sobol"],
+    ),
+    (
+        "SurfaceIntegrator",
+        &[
+            "bidirectional",
+            "path",
+            "directlighting",
+            "distributedpath",
+            "exphotonmap",
+            "igi",
+            "sppm",
+        ],
+    ),
+    ("Renderer", &["sampler", "hybrid", "sppm", "luxcore", "slg"]),
+    (
+        "Accelerator",
+        &[
+            "qbvh",
+            "sqbvh",
+            "bvh",
+            "kdtree",
+            "tabreckdtree",
+            "unsafekdtree",
+            "grid",
+            "none",
+        ],
+    ),
+    ("VolumeIntegrator", &["single", "emission", "multi", "none"]),
+];
+
 pub(super) struct Parser {
     pub state: GraphicsState,
     stack: Vec<(Block, GraphicsState, Location)>,
@@ -291,6 +329,17 @@ impl Parser {
         params: &mut ParamList,
     ) -> Result<(), SceneError> {
         let first = strings.first().map_or("", String::as_str);
+        if let Some((_, known)) = KNOWN_TYPES.iter().find(|(directive, _)| *directive == name)
+            && !known.contains(&first)
+        {
+            self.warn(
+                line,
+                format!(
+                    "unknown {name} type \"{first}\" (LuxRender has {})",
+                    known.join(", ")
+                ),
+            );
+        }
         match name {
             "Camera" => self.camera(first, line, params)?,
             "Film" => self.film_directive(line, params)?,
