@@ -99,7 +99,15 @@ pub fn run(a: &Path, b: &Path, diff: Option<PathBuf>, json: bool) -> Result<(), 
     }
     if let Some(path) = diff {
         let (pixels, scale) = difference_image(&image, &reference);
-        write_image(&path, width, height, &pixels, 1.0, &ImageMetadata::default()).map_err(|e| format!("error: {e}"))?;
+        write_image(
+            &path,
+            width,
+            height,
+            &pixels,
+            1.0,
+            &ImageMetadata::default(),
+        )
+        .map_err(|e| format!("error: {e}"))?;
         if !json {
             println!(
                 "{} written: red where A is brighter, blue where darker, full colour at a relative difference of {scale:.3}",
