@@ -21,24 +21,34 @@ impl Lambertian {
 
     /// Cosine-weighted hemisphere sampling: pdf = cos(theta_i) / pi.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z > 0.0 && wi.z > 0.0 {
-            cosine_hemisphere_pdf(wi.z)
-        } else {
-            0.0
-        }
+        cosine_lobe_pdf(wo, wi)
     }
 
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let wi = cosine_hemisphere(u);
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            f: self.eval(wo, wi),
-            pdf,
-            delta: false,
-        })
+        sample_cosine_lobe(wo, u, |wi| self.eval(wo, wi))
     }
+}
+
+/// The pdf of [`sample_cosine_lobe`]: cos(theta_i) / pi on the upper hemisphere, for `wo` above.
+pub fn cosine_lobe_pdf(wo: Vec3, wi: Vec3) -> f32 {
+    if wo.z > 0.0 && wi.z > 0.0 {
+        cosine_hemisphere_pdf(wi.z)
+    } else {
+        0.0
+    }
+}
+
+/// Samples a reflection lobe by the cosine (Lambert, Oren-Nayar); `eval` gives f(wo, wi).
+pub fn sample_cosine_lobe(wo: Vec3, u: Vec2, eval: impl Fn(Vec3) -> Vec3) -> Option<BsdfSample> {
+    if wo.z <= 0.0 {
+        return None;
+    }
+    let wi = cosine_hemisphere(u);
+    let pdf = cosine_lobe_pdf(wo, wi);
+    (pdf > 0.0).then(|| BsdfSample {
+        wi,
+        f: eval(wi),
+        pdf,
+        delta: false,
+    })
 }

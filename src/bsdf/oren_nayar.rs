@@ -9,7 +9,7 @@
 //! beta the smaller of theta_i and theta_o. Symmetric in wi and wo; sampled like Lambertian.
 
 use super::BsdfSample;
-use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
+use super::lambertian::{cosine_lobe_pdf, sample_cosine_lobe};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -52,24 +52,10 @@ impl OrenNayar {
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z > 0.0 && wi.z > 0.0 {
-            cosine_hemisphere_pdf(wi.z)
-        } else {
-            0.0
-        }
+        cosine_lobe_pdf(wo, wi)
     }
 
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let wi = cosine_hemisphere(u);
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            f: self.eval(wo, wi),
-            pdf,
-            delta: false,
-        })
+        sample_cosine_lobe(wo, u, |wi| self.eval(wo, wi))
     }
 }

@@ -11,7 +11,6 @@ use crate::accel::Hit;
 use crate::light::LightTable;
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
-use crate::texture::ShadingPoint;
 
 pub fn shade_path_vertices(
     inputs: ShadingInputs,
@@ -62,17 +61,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
     }
 
     let choice = path.rng.next_f32();
-    let Some(bsdf) = scene.materials.bsdf_at(
-        surface.material,
-        &ShadingPoint {
-            p: surface.position,
-            uv: surface.uv,
-            n: surface.shading_normal,
-            object: surface.material,
-        },
-        scene.textures,
-        choice,
-    ) else {
+    let Some(bsdf) = scene.bsdf_at(&surface, choice) else {
         path.pass_through(&surface);
         return None;
     };

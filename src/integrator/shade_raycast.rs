@@ -16,7 +16,6 @@ use crate::bsdf::Bsdf;
 use crate::light::LightTable;
 use crate::shape::geometry::NO_EMITTER;
 use crate::shape::surface::SurfacePoint;
-use crate::texture::ShadingPoint;
 
 /// The ray caster needs one shadow ray per light at each shaded point.
 pub fn shadow_rays_per_path(lights: &LightTable) -> usize {
@@ -63,17 +62,7 @@ fn shade_hit(
         path.add_radiance(*path.throughput * area.radiance());
     }
     let choice = path.rng.next_f32();
-    let Some(bsdf) = scene.materials.bsdf_at(
-        surface.material,
-        &ShadingPoint {
-            p: surface.position,
-            uv: surface.uv,
-            n: surface.shading_normal,
-            object: surface.material,
-        },
-        scene.textures,
-        choice,
-    ) else {
+    let Some(bsdf) = scene.bsdf_at(&surface, choice) else {
         path.pass_through(&surface);
         return;
     };

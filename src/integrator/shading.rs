@@ -16,6 +16,7 @@ use crate::sampling::PathRng;
 use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
+use crate::texture::ShadingPoint;
 
 /// Chains of pass-through (null material) surfaces longer than this end the path.
 pub const MAX_PASS_THROUGH: u32 = 64;
@@ -58,6 +59,21 @@ pub struct Scene<'a> {
     pub max_depth: u32,
     /// Bounces before Russian roulette may end a path.
     pub rr_depth: u32,
+}
+
+impl Scene<'_> {
+    /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
+    /// `choice` in [0, 1) picks the side of each mix.
+    pub fn bsdf_at(&self, surface: &SurfacePoint, choice: f32) -> Option<Bsdf> {
+        let point = ShadingPoint {
+            p: surface.position,
+            uv: surface.uv,
+            n: surface.shading_normal,
+            object: surface.material,
+        };
+        self.materials
+            .bsdf_at(surface.material, &point, self.textures, choice)
+    }
 }
 
 /// One path's slots in the batch.
