@@ -18,10 +18,9 @@ const SCENES: [&str; 6] = [
 
 #[test]
 fn shared_luxrender_scenes_load() {
-    let Some(itba) = common::shared_scenes() else {
+    let Some(root) = common::shared_scene_folder("luxrender") else {
         return;
     };
-    let root = itba.parent().unwrap().join("luxrender");
     for scene in SCENES {
         let desc = foton::scene::load(&root.join(scene)).unwrap_or_else(|e| panic!("{e}"));
         println!("{scene}: loads, {} warnings", desc.warnings.len());
@@ -32,13 +31,10 @@ fn shared_luxrender_scenes_load() {
 /// material's Kd is a node of the graph of the class the file names, not a grey stand-in.
 #[test]
 fn texture_examples_reads_its_procedural_textures() {
-    let Some(itba) = common::shared_scenes() else {
+    let Some(root) = common::shared_scene_folder("luxrender") else {
         return;
     };
-    let path = itba
-        .parent()
-        .unwrap()
-        .join("luxrender/texture-examples/texture-examples.lxs");
+    let path = root.join("texture-examples/texture-examples.lxs");
     let desc = foton::scene::load(&path).expect("texture-examples loads");
     let graph = &desc.texture_graph;
     let has = |f: fn(&TextureNode) -> bool| graph.nodes.iter().any(f);

@@ -1,28 +1,10 @@
 //! The Mitsuba format layer on the shared public scenes: every XML file parses, with no error, and
 //! every mesh it names reads. Skipped where ../shared (or $FOTON_SHARED) is absent.
 
-use std::path::PathBuf;
+mod common;
 
 use foton::scene::io::{obj, serialized};
 use foton::scene::mitsuba::{self, Value};
-
-fn shared_mitsuba() -> Option<PathBuf> {
-    let found = [
-        std::env::var("FOTON_SHARED").ok().map(PathBuf::from),
-        Some(PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared"
-        ))),
-    ]
-    .into_iter()
-    .flatten()
-    .map(|p| p.join("scenes/mitsuba"))
-    .find(|p| p.is_dir());
-    if found.is_none() {
-        eprintln!("skipped: ../shared/scenes/mitsuba not found (set FOTON_SHARED)");
-    }
-    found
-}
 
 /// The main file of each shared scene (SOURCES.md).
 const SCENES: [&str; 9] = [
@@ -39,7 +21,9 @@ const SCENES: [&str; 9] = [
 
 #[test]
 fn shared_scenes_parse_and_their_meshes_read() {
-    let Some(root) = shared_mitsuba() else { return };
+    let Some(root) = common::shared_scene_folder("mitsuba") else {
+        return;
+    };
     for scene in SCENES {
         let tree = mitsuba::parse_file(&root.join(scene), &[])
             .unwrap_or_else(|err| panic!("{scene}: {err}"));
@@ -81,7 +65,9 @@ fn shared_scenes_parse_and_their_meshes_read() {
 
 #[test]
 fn shared_scene_features_read_as_mitsuba_reads_them() {
-    let Some(root) = shared_mitsuba() else { return };
+    let Some(root) = common::shared_scene_folder("mitsuba") else {
+        return;
+    };
     // Version 0.5: `toWorld` and `sampleCount` upgraded.
     let tree = mitsuba::parse_file(&root.join("bitterli-cornell-box/scene_v0.6.xml"), &[]).unwrap();
     let sensor = tree.objects.iter().find(|o| o.tag == "sensor").unwrap();

@@ -1,30 +1,14 @@
 //! Mitsuba scenes through `scene::load`: the seven shared public scenes load and render (skipped
 //! where ../shared is absent), and the conversion's semantics on scenes written here.
 
+mod common;
+
 use std::path::PathBuf;
 
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::SceneDesc;
 use glam::Vec3;
-
-fn shared_mitsuba() -> Option<PathBuf> {
-    let found = [
-        std::env::var("FOTON_SHARED").ok().map(PathBuf::from),
-        Some(PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared"
-        ))),
-    ]
-    .into_iter()
-    .flatten()
-    .map(|p| p.join("scenes/mitsuba"))
-    .find(|p| p.is_dir());
-    if found.is_none() {
-        eprintln!("skipped: ../shared/scenes/mitsuba not found (set FOTON_SHARED)");
-    }
-    found
-}
 
 fn render(desc: SceneDesc, resolution: (u32, u32), spp: u32) -> Vec<Vec3> {
     let options = RenderOptions {
@@ -40,7 +24,9 @@ fn render(desc: SceneDesc, resolution: (u32, u32), spp: u32) -> Vec<Vec3> {
 
 #[test]
 fn the_seven_shared_scenes_load_and_render() {
-    let Some(root) = shared_mitsuba() else { return };
+    let Some(root) = common::shared_scene_folder("mitsuba") else {
+        return;
+    };
     for scene in [
         "mdata-cbox/cbox.xml",
         "mdata-matpreview/matpreview.xml",

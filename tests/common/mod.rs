@@ -200,6 +200,12 @@ pub fn options(spp: u32, max_depth: u32) -> RenderOptions {
 
 /// Where the course's shared scenes are, if present.
 pub fn shared_scenes() -> Option<PathBuf> {
+    shared_scene_folder("itba")
+}
+
+/// `scenes/FOLDER` of the shared folder (`$FOTON_SHARED`, else `../shared`), if present; says
+/// that the test is skipped where it is not.
+pub fn shared_scene_folder(folder: &str) -> Option<PathBuf> {
     let candidates = [
         std::env::var("FOTON_SHARED").ok().map(PathBuf::from),
         Some(PathBuf::from(concat!(
@@ -210,10 +216,12 @@ pub fn shared_scenes() -> Option<PathBuf> {
     let found = candidates
         .into_iter()
         .flatten()
-        .map(|p| p.join("scenes/itba"))
+        .map(|p| p.join("scenes").join(folder))
         .find(|p| p.is_dir());
     if found.is_none() {
-        eprintln!("skipped: ../shared not found (set FOTON_SHARED to the shared folder)");
+        eprintln!(
+            "skipped: ../shared/scenes/{folder} not found (set FOTON_SHARED to the shared folder)"
+        );
     }
     found
 }
