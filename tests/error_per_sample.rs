@@ -78,18 +78,7 @@ fn emitter_mis_weight_uses_the_last_scattering_vertex_after_a_null_surface() {
     scene.materials.push(MaterialDesc::Null);
     let null = scene.materials.len() - 1;
     let v = Vec3::new;
-    let big = 1000.0;
-    quad(
-        &mut scene,
-        [
-            v(-big, -big, 0.),
-            v(big, -big, 0.),
-            v(big, big, 0.),
-            v(-big, big, 0.),
-        ],
-        floor,
-        None,
-    );
+    ground(&mut scene, floor);
     let z = 1.0 - 5e-4;
     quad(
         &mut scene,

@@ -195,18 +195,7 @@ fn area_light_reflection_matches_the_analytic_answer() {
         scene.materials.push(MaterialDesc::Null);
         let null = scene.materials.len() - 1;
         let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-        let big = 1000.0;
-        quad(
-            &mut scene,
-            [
-                v(-big, -big, 0.),
-                v(big, -big, 0.),
-                v(big, big, 0.),
-                v(-big, big, 0.),
-            ],
-            floor,
-            None,
-        );
+        ground(&mut scene, floor);
         // Winding with the normal down: the rectangle emits towards the floor.
         quad(
             &mut scene,

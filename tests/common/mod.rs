@@ -58,6 +58,18 @@ pub fn sphere(scene: &mut SceneDesc, centre: Vec3, radius: f32, material: Materi
     });
 }
 
+/// A floor at z = 0, 2000 units on a side, facing +z: for the scene it lights, an infinite plane.
+pub fn ground(scene: &mut SceneDesc, material: MaterialId) {
+    let big = 1000.0;
+    let v = |x: f32, y: f32| Vec3::new(x, y, 0.0);
+    quad(
+        scene,
+        [v(-big, -big), v(big, -big), v(big, big), v(-big, big)],
+        material,
+        None,
+    );
+}
+
 /// An axis-aligned quad with corners in order (normal by the right-hand rule).
 pub fn quad(
     scene: &mut SceneDesc,
