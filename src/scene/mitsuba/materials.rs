@@ -15,6 +15,7 @@ use crate::scene::desc::{
     ColorParam, ImageTexture, MaterialDesc, MaterialId, SceneError, TextureId,
 };
 use crate::scene::io::image as images;
+use crate::texture::{Mapping2D, TextureNode};
 
 /// Mitsuba's default surface: diffuse, reflectance 0.5.
 pub fn default_material(cx: &mut Converter) -> MaterialId {
@@ -367,7 +368,7 @@ fn average_fresnel(eta: f32) -> f32 {
         .sum()
 }
 
-/// The image texture for texture `object` (converted once).
+/// The texture-graph node of texture `object` (converted once).
 pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
     let key = cx
         .tree
@@ -442,7 +443,11 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
         scale,
         delta,
     });
-    let id = cx.desc.textures.len() - 1;
+    // A colour parameter names a node of the texture graph: the image looked up at the uv.
+    let id = cx.desc.texture_graph.push(TextureNode::Image {
+        image: cx.desc.textures.len() - 1,
+        mapping: Mapping2D::default(),
+    });
     cx.textures.insert(key, id);
     Some(id)
 }
