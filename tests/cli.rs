@@ -629,3 +629,121 @@ fn help_documents_the_exit_codes() {
         assert!(help.contains(&format!("  {code}")), "{code}: {help}");
     }
 }
+
+/// The relMSE `foton compare A B --json` prints for the whole image.
+fn rel_mse(a: &Path, b: &Path) -> f64 {
+    let output = foton(&[
+        "compare",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let json = stdout(&output);
+    let overall = &json[json.find("\"overall\"").expect("overall in the JSON")..];
+    let value = overall["\"overall\": {\"rmse\": ".len()..]
+        .split("\"rel_mse\": ")
+        .nth(1)
+        .and_then(|rest| rest.split(',').next())
+        .expect("rel_mse in the JSON");
+    value.parse().unwrap_or_else(|_| panic!("{json}"))
+}
+
+#[test]
+fn compare_measures_error_and_converge_charts_it() {
+    let dir = temp_dir("converge");
+    let scene = project_scene("cornell-diffuse.lxs");
+    let render = |spp: &str, seed: &str, name: &str| {
+        let out = dir.join(name);
+        let output = foton(&[
+            "render",
+            &scene,
+            "--resolution",
+            "40x30",
+            "--spp",
+            spp,
+            "--seed",
+            seed,
+            "-o",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        out
+    };
+    let reference = render("16", "9", "ref.exr");
+    let (one, four) = (render("1", "1", "a.exr"), render("4", "1", "b.exr"));
+    // An image against itself: no error, infinite PSNR (null in JSON).
+    assert_eq!(rel_mse(&one, &one), 0.0);
+    // The expected relMSE of n spp against a 16-spp reference is v (1/n + 1/16): 4 spp has 0.29x
+    // the error of 1 spp, and over 3600 pixel-channels the estimates spread by a few percent.
+    let (e1, e4) = (rel_mse(&one, &reference), rel_mse(&four, &reference));
+    assert!(e4 > 0.0 && e4 < 0.5 * e1, "1 spp {e1}, 4 spp {e4}");
+    let diff = dir.join("diff.png");
+    let output = foton(&[
+        "compare",
+        one.to_str().unwrap(),
+        reference.to_str().unwrap(),
+        "--diff",
+        diff.to_str().unwrap(),
+    ]);
+    assert!(output.status.success() && stdout(&output).contains("relMSE"));
+    assert_eq!(image::image_dimensions(&diff).unwrap(), (40, 30));
+    let missing = foton(&["compare", "no-such.exr", reference.to_str().unwrap()]);
+    assert_eq!(code(&missing), Some(1));
+    assert!(
+        stderr(&missing).contains("no-such.exr"),
+        "{}",
+        stderr(&missing)
+    );
+
+    // converge: one CSV row per spp, error falling with the samples; chart draws it again.
+    let csv = dir.join("points.csv");
+    let output = foton(&[
+        "converge",
+        &scene,
+        "--reference",
+        reference.to_str().unwrap(),
+        "--spp",
+        "1,4",
+        "--config",
+        "default:",
+        "--config",
+        "fis: --film fis",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(
+        text.lines().next(),
+        Some("configuration,seconds,spp,relmse")
+    );
+    assert_eq!(rows.len(), 4, "{text}");
+    for pair in rows.chunks(2) {
+        let error = |row: &Vec<&str>| row[3].parse::<f64>().unwrap();
+        assert_eq!((pair[0][2], pair[1][2]), ("1", "4"), "{text}");
+        assert!(error(&pair[1]) < 0.5 * error(&pair[0]), "{text}");
+    }
+    let svg = dir.join("chart.svg");
+    let output = foton(&["chart", csv.to_str().unwrap(), "-o", svg.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(
+        std::fs::read_to_string(&svg).is_ok_and(|s| s.contains("<svg"))
+            || stderr(&output).contains("no font found"),
+        "{}",
+        stderr(&output)
+    );
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        "configuration,seconds,spp,relmse\nx,not-a-number,1,0.1\n",
+    )
+    .unwrap();
+    assert_eq!(code(&foton(&["chart", bad.to_str().unwrap()])), Some(1));
+}

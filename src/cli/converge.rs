@@ -95,6 +95,18 @@ pub fn run(args: &ConvergeArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// `foton chart`: the chart of points already measured (CSV files, e.g. from
+/// scripts/peers/equal_time.py), as `output` (SVG) and beside it as PNG.
+pub fn chart(csvs: &[PathBuf], output: &Path) -> Result<(), String> {
+    let mut points = Vec::new();
+    for csv in csvs {
+        points.extend(read_csv(csv)?);
+    }
+    draw_charts(output, &points)?;
+    println!("{} (and .png) written", output.display());
+    Ok(())
+}
+
 fn write_csv(path: &Path, points: &[Point]) -> Result<(), String> {
     let mut text = String::from("configuration,seconds,spp,relmse\n");
     for p in points {

@@ -1,4 +1,5 @@
-//! The command line: `foton render`, `foton bench`, `foton compare`, `foton converge`.
+//! The command line: `foton render`, `foton bench`, `foton compare`, `foton converge`,
+//! `foton chart`.
 
 mod bench;
 mod compare;
@@ -76,6 +77,18 @@ enum Command {
     Compare(CompareArgs),
     /// Error against time: render at growing spp per configuration, write a CSV and a chart.
     Converge(ConvergeCliArgs),
+    /// Draw the log-log chart of relMSE against seconds from CSVs of measured points.
+    Chart(ChartArgs),
+}
+
+#[derive(Args, Debug)]
+struct ChartArgs {
+    /// CSV files (configuration, seconds, spp, relmse), as `converge` writes them.
+    #[arg(required = true)]
+    csvs: Vec<PathBuf>,
+    /// The chart (.svg); a .png goes beside it.
+    #[arg(long, short, default_value = "chart.svg")]
+    output: PathBuf,
 }
 
 #[derive(Args, Debug)]
@@ -401,6 +414,8 @@ pub fn run() -> ExitCode {
             output: &args.output,
         })
         .map_err(|message| Failure::new(exit::SCENE_ERROR, message)),
+        Command::Chart(args) => converge::chart(&args.csvs, &args.output)
+            .map_err(|message| Failure::new(exit::SCENE_ERROR, message)),
     };
     let code = match result {
         Ok(()) => 0,
