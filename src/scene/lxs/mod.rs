@@ -7,6 +7,7 @@ mod materials;
 mod params;
 mod parser;
 mod paths;
+mod quadrics;
 mod shapes;
 mod textures;
 mod tokenizer;

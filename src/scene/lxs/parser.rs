@@ -11,6 +11,7 @@ use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
 use crate::scene::desc::{ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning};
+use crate::settings::IntegratorKind;
 
 /// What `AttributeBegin`/`AttributeEnd` save and restore.
 #[derive(Clone, Debug)]
@@ -98,6 +99,8 @@ pub(super) struct Parser {
     /// The file being read and its folder (paths in it resolve against that folder).
     pub file: PathBuf,
     pub dir: PathBuf,
+    /// The main scene file's folder (LuxRender resolves names in included files against it).
+    main_dir: PathBuf,
     /// Absolute paths of the files being read, outermost first (to catch Include cycles).
     include_chain: Vec<PathBuf>,
     pub named_materials: HashMap<String, MaterialId>,
@@ -115,6 +118,7 @@ impl Parser {
             world_ended: false,
             file: path.to_path_buf(),
             dir: PathBuf::new(),
+            main_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
             include_chain: Vec::new(),
             named_materials: HashMap::new(),
             named_textures: HashMap::new(),
@@ -144,13 +148,19 @@ impl Parser {
     /// Finds a file named in the current file (see `paths::resolve`), warning when it was found
     /// in a parent folder. `what` is the naming text, e.g. `Include "x.lxo"`.
     pub fn resolve(&mut self, name: &str, line: usize, what: &str) -> Result<PathBuf, SceneError> {
-        match resolve(name, &self.dir) {
+        match resolve(name, &self.dir, &self.main_dir) {
             Ok(Resolved {
                 path,
                 found_in_parent,
             }) => {
                 if found_in_parent {
-                    self.warn(line, format!("{what}: found as {}", path.display()));
+                    self.warn(
+                        line,
+                        format!(
+                            "files found in a parent folder of the file naming them{FIRST_EXAMPLE}{what} as {}",
+                            path.display()
+                        ),
+                    );
                 }
                 Ok(path)
             }
@@ -295,6 +305,13 @@ impl Parser {
                 let target = strings.remove(0);
                 self.include(&target, line)?;
             }
+            "MakeNamedVolume" | "Interior" | "Exterior" => {
+                // Participating media: once per kind, with a count (see `once_per_kind`).
+                self.warn(
+                    line,
+                    "volumes (MakeNamedVolume, Interior, Exterior) are not rendered: ignored",
+                );
+            }
             _ => {
                 let Some(kind) = self.known_with_params(name) else {
                     self.warn(line, format!("unknown directive {name} ignored"));
@@ -347,6 +364,7 @@ impl Parser {
                 self.scene.pixel_samples = self.positive_int(params, "pixelsamples", line)?;
             }
             "SurfaceIntegrator" => {
+                self.surface_integrator(first, line);
                 let depth = match self.count(params, "maxdepth", line)? {
                     Some(depth) => Some(depth),
                     None => self.count(params, "eyedepth", line)?,
@@ -522,8 +540,28 @@ impl Parser {
         }
     }
 
+    /// `SurfaceIntegrator`: `directlighting` (direct light plus specular bounces) is foton's
+    /// ray caster; the integrators foton lacks are path traced, which converges to the same
+    /// image (`bidirectional`, `sppm`, …) or a less biased one (`igi`, `exphotonmap`).
+    fn surface_integrator(&mut self, kind: &str, line: usize) {
+        self.scene.integrator = match kind {
+            "directlighting" => Some(IntegratorKind::RayCaster),
+            "path" => Some(IntegratorKind::PathTracer),
+            _ => {
+                self.warn(
+                    line,
+                    format!(
+                        "SurfaceIntegrator \"{kind}\" is not in foton: rendered with its path tracer \
+                         (unidirectional, next-event estimation with MIS)"
+                    ),
+                );
+                None
+            }
+        };
+    }
+
     /// Checks that nothing was left open at the end of the scene, and hands over the result.
-    fn finish(self) -> Result<SceneDesc, SceneError> {
+    fn finish(mut self) -> Result<SceneDesc, SceneError> {
         if let Some((block, _, at)) = self.stack.last() {
             return Err(SceneError {
                 location: at.clone(),
@@ -538,6 +576,7 @@ impl Parser {
                 message: "WorldBegin is never closed by WorldEnd".into(),
             });
         }
+        self.scene.warnings = once_per_kind(std::mem::take(&mut self.scene.warnings));
         Ok(self.scene)
     }
 }
@@ -547,4 +586,35 @@ pub(super) fn parse(path: &Path) -> Result<SceneDesc, SceneError> {
     let mut parser = Parser::new(path);
     parser.read_file(path)?;
     parser.finish()
+}
+
+/// Separates a warning's kind from its first example, where occurrences differ in their text.
+const FIRST_EXAMPLE: &str = "; the first: ";
+
+/// Warnings once per kind: where several say the same (or the same kind, for files found in a
+/// parent folder), the first stays, at its location, with the count of all of them.
+fn once_per_kind(warnings: Vec<SceneWarning>) -> Vec<SceneWarning> {
+    let kind = |w: &SceneWarning| match w.message.split_once(FIRST_EXAMPLE) {
+        Some((kind, _)) => kind.to_string(),
+        None => w.message.clone(),
+    };
+    let mut first_of_kind: HashMap<String, usize> = HashMap::new();
+    let mut kept: Vec<(SceneWarning, usize)> = Vec::new();
+    for warning in warnings {
+        match first_of_kind.entry(kind(&warning)) {
+            std::collections::hash_map::Entry::Occupied(index) => kept[*index.get()].1 += 1,
+            std::collections::hash_map::Entry::Vacant(slot) => {
+                slot.insert(kept.len());
+                kept.push((warning, 1));
+            }
+        }
+    }
+    kept.into_iter()
+        .map(|(mut warning, count)| {
+            if count > 1 {
+                warning.message = format!("{} ({count} times)", warning.message);
+            }
+            warning
+        })
+        .collect()
 }
