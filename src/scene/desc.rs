@@ -98,6 +98,8 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     /// Warnings met while loading, in file order.
     pub warnings: Vec<SceneWarning>,
+    /// What the loader adapted within the format (printed by `--verbose`).
+    pub notes: Vec<String>,
 }
 
 impl SceneDesc {
@@ -136,6 +138,7 @@ impl SceneDesc {
             shapes: Vec::new(),
             lights: Vec::new(),
             warnings: Vec::new(),
+            notes: Vec::new(),
         }
     }
 }

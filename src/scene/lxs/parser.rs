@@ -7,10 +7,13 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 
 use super::lights::AreaLight;
+use super::objects::OpenObject;
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
-use crate::scene::desc::{ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning};
+use crate::scene::desc::{
+    ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning, ShapeDesc,
+};
 use crate::settings::IntegratorKind;
 
 /// What `AttributeBegin`/`AttributeEnd` save and restore.
@@ -38,6 +41,7 @@ impl Default for GraphicsState {
 enum Block {
     Attribute,
     Transform,
+    Object,
 }
 
 impl Block {
@@ -45,6 +49,7 @@ impl Block {
         match self {
             Block::Attribute => "AttributeBegin",
             Block::Transform => "TransformBegin",
+            Block::Object => "ObjectBegin",
         }
     }
 }
@@ -105,6 +110,12 @@ pub(super) struct Parser {
     include_chain: Vec<PathBuf>,
     pub named_materials: HashMap<String, MaterialId>,
     pub named_textures: HashMap<String, ColorParam>,
+    /// `ObjectBegin` … `ObjectEnd`: the object being defined, and those defined.
+    pub open_object: Option<OpenObject>,
+    pub objects: HashMap<String, Vec<ShapeDesc>>,
+    /// `ObjectInstance`s read, and the shapes they drew.
+    pub instance_count: usize,
+    pub instanced_shapes: usize,
     /// What has been read so far.
     pub scene: SceneDesc,
 }
@@ -122,6 +133,10 @@ impl Parser {
             include_chain: Vec::new(),
             named_materials: HashMap::new(),
             named_textures: HashMap::new(),
+            open_object: None,
+            objects: HashMap::new(),
+            instance_count: 0,
+            instanced_shapes: 0,
             scene: SceneDesc::empty(Location::line(path, 0)),
         }
     }
@@ -305,6 +320,21 @@ impl Parser {
                 let target = strings.remove(0);
                 self.include(&target, line)?;
             }
+            "ObjectBegin" => {
+                let name = self.one_name(name, line, args)?;
+                self.object_begin(&name, line)?;
+                self.stack
+                    .push((Block::Object, self.state.clone(), self.location(line)));
+            }
+            "ObjectEnd" => {
+                self.numbers(name, line, args, 0)?;
+                self.end_block(Block::Object, name, line)?;
+                self.object_end(line)?;
+            }
+            "ObjectInstance" => {
+                let name = self.one_name(name, line, args)?;
+                self.object_instance(&name, line)?;
+            }
             "MakeNamedVolume" | "Interior" | "Exterior" => {
                 // Participating media: once per kind, with a count (see `once_per_kind`).
                 self.warn(
@@ -422,7 +452,7 @@ impl Parser {
         match self.stack.pop() {
             Some((open, saved, _)) if open == block => {
                 match block {
-                    Block::Attribute => self.state = saved,
+                    Block::Attribute | Block::Object => self.state = saved,
                     Block::Transform => self.state.ctm = saved.ctm,
                 }
                 Ok(())
@@ -466,6 +496,15 @@ impl Parser {
 
     /// The leading quoted strings of a directive (`count` of them; `Texture` may take two more:
     /// its type and class) and the parameter-list tokens after them.
+    /// The one quoted name after a directive (`ObjectBegin "name"`), and nothing else.
+    fn one_name(&self, name: &str, line: usize, args: &[Token]) -> Result<String, SceneError> {
+        let (mut strings, rest) = self.strings(name, line, args, 1)?;
+        if !rest.is_empty() {
+            return Err(self.error(line, format!("{name} takes one quoted name only")));
+        }
+        Ok(strings.remove(0))
+    }
+
     fn strings<'t>(
         &self,
         name: &str,
@@ -547,7 +586,7 @@ impl Parser {
         self.scene.integrator = match kind {
             "directlighting" => Some(IntegratorKind::RayCaster),
             "path" => Some(IntegratorKind::PathTracer),
-            _ => {
+            "bidirectional" | "distributedpath" | "exphotonmap" | "igi" | "sppm" => {
                 self.warn(
                     line,
                     format!(
@@ -557,6 +596,8 @@ impl Parser {
                 );
                 None
             }
+            // Not LuxRender's: `with_params` has warned of the unknown type.
+            _ => None,
         };
     }
 
@@ -575,6 +616,14 @@ impl Parser {
                 location: at.clone(),
                 message: "WorldBegin is never closed by WorldEnd".into(),
             });
+        }
+        if self.instance_count > 0 {
+            self.scene.notes.push(format!(
+                "{} ObjectInstance of {} objects flattened into {} shapes",
+                self.instance_count,
+                self.objects.len(),
+                self.instanced_shapes
+            ));
         }
         self.scene.warnings = once_per_kind(std::mem::take(&mut self.scene.warnings));
         Ok(self.scene)
