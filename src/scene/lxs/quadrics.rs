@@ -28,6 +28,14 @@ fn segments(phi_max: f32) -> (u32, f32) {
     (count, phi_max / count as f32)
 }
 
+/// The `count + 1` edges of `count` segments of angle `step`: u (0 to 1), cos phi, sin phi.
+fn segment_edges(count: u32, step: f32) -> impl Iterator<Item = (f32, f32, f32)> {
+    (0..=count).map(move |i| {
+        let (sin, cos) = (i as f32 * step).sin_cos();
+        (i as f32 / count as f32, cos, sin)
+    })
+}
+
 /// `sqrt(t / sin t)`, the factor that gives chord wedges of angle `t` the area of their sectors.
 fn wedge_area_scale(t: f32) -> f32 {
     (t / t.sin()).sqrt()
@@ -43,10 +51,7 @@ pub fn disk(height: f32, radius: f32, inner_radius: f32, phi_max: f32) -> Geomet
     let mut indices = Vec::new();
     // For each segment edge i: the outer vertex 2i and the inner vertex 2i + 1. A full disk's
     // centre is one point but gets a vertex per edge, so that u interpolates per segment.
-    for i in 0..=count {
-        let phi = i as f32 * step;
-        let (sin, cos) = phi.sin_cos();
-        let u = i as f32 / count as f32;
+    for (u, cos, sin) in segment_edges(count, step) {
         positions.push(Vec3::new(outer * cos, outer * sin, height));
         positions.push(Vec3::new(inner * cos, inner * sin, height));
         uvs.push(Vec2::new(u, 0.0));
@@ -80,10 +85,7 @@ pub fn cylinder(radius: f32, z_min: f32, z_max: f32, phi_max: f32) -> Geometry {
     let mut uvs = Vec::new();
     let mut indices = Vec::new();
     // For each segment edge i: the bottom vertex 2i and the top vertex 2i + 1.
-    for i in 0..=count {
-        let phi = i as f32 * step;
-        let (sin, cos) = phi.sin_cos();
-        let u = i as f32 / count as f32;
+    for (u, cos, sin) in segment_edges(count, step) {
         for (z, v) in [(z_min, 0.0), (z_max, 1.0)] {
             positions.push(Vec3::new(facet_radius * cos, facet_radius * sin, z));
             normals.push(Vec3::new(cos, sin, 0.0));
