@@ -23,7 +23,7 @@ fn wavefront(c: &mut Criterion) {
         let options = RenderOptions {
             samples_per_pixel: Some(spp),
             resolution: Some((width, height)),
-            integrator,
+            integrator: Some(integrator),
             ..RenderOptions::default()
         };
         group.bench_function(name, |b| {

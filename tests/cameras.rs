@@ -100,7 +100,7 @@ fn face_towards(direction: Vec3) -> (Vec3, f32) {
 fn overrides(camera: &'static CameraType, integrator: IntegratorKind, spp: u32) -> RenderOptions {
     RenderOptions {
         camera: Some(camera),
-        integrator,
+        integrator: Some(integrator),
         ..options(spp, 1)
     }
 }

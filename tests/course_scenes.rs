@@ -2,31 +2,11 @@
 
 mod common;
 
-use foton::film::{exposure_scale, luminance, read_png_linear};
+use common::{correlation, downsample};
+use foton::film::{exposure_scale, read_png_linear};
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world, tone_map};
 use glam::Vec3;
-
-/// Box-averages a `w` x `h` image down by `factor` in each axis.
-fn downsample(pixels: &[Vec3], w: usize, h: usize, factor: usize) -> Vec<f32> {
-    let (dw, dh) = (w / factor, h / factor);
-    let mut out = vec![0.0; dw * dh];
-    for y in 0..dh * factor {
-        for x in 0..dw * factor {
-            out[(y / factor) * dw + x / factor] += luminance(pixels[y * w + x]);
-        }
-    }
-    out.iter().map(|v| v / (factor * factor) as f32).collect()
-}
-
-fn correlation(a: &[f32], b: &[f32]) -> f32 {
-    let n = a.len() as f32;
-    let (ma, mb) = (a.iter().sum::<f32>() / n, b.iter().sum::<f32>() / n);
-    let cov: f32 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
-    let va: f32 = a.iter().map(|x| (x - ma).powi(2)).sum();
-    let vb: f32 = b.iter().map(|y| (y - mb).powi(2)).sum();
-    cov / (va * vb).sqrt()
-}
 
 /// `metal2_scene` as foton renders it (tone-mapped as the scene asks, clamped to display
 /// range) has the structure of LuxRender's render: the floor, the two rough metal spheres with

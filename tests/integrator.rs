@@ -126,7 +126,7 @@ fn a_render_stops_within_a_pass_and_keeps_its_chunks() {
 fn every_pixel_is_finite_and_non_negative_for_both_integrators() {
     for integrator in [IntegratorKind::PathTracer, IntegratorKind::RayCaster] {
         let options = foton::scene::build::RenderOptions {
-            integrator,
+            integrator: Some(integrator),
             ..options(8, 10)
         };
         let image = render(test_box(), &options);

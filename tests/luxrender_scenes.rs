@@ -3,8 +3,13 @@
 
 mod common;
 
+use common::{correlation, downsample};
+use foton::film::{apply_display_tone_map, exposure_scale, read_png_linear};
+use foton::integrator::Renderer;
+use foton::scene::build::{RenderOptions, build_world, tone_map};
 use foton::scene::desc::MaterialDesc;
 use foton::texture::TextureNode;
+use glam::Vec3;
 
 /// The six scenes' main files: each loads without error.
 const SCENES: [&str; 6] = [
@@ -64,4 +69,140 @@ fn texture_examples_reads_its_procedural_textures() {
         "{:?}",
         desc.warnings
     );
+}
+
+/// How foton's image of a scene compares with LuxRender's own render of it.
+struct Agreement {
+    /// Pearson correlation of block luminances (structure: what is where, how bright).
+    correlation: f32,
+    /// The same for foton's image mirrored left to right: what the test makes of an image with
+    /// the same content in the wrong places.
+    mirrored_correlation: f32,
+    /// foton's mean luminance over LuxRender's.
+    brightness: f32,
+}
+
+/// Renders `scene` at `width` x `height` (a divisor of LuxRender's resolution) and `spp`, tone
+/// maps it as the scene's `Film` asks and clamps it to display range as LuxRender's 8-bit PNG
+/// is, then compares `blocks_across` x (as many down) blocks of luminance with `reference`.
+fn compare_with_luxrender(
+    scene: &str,
+    reference: &str,
+    (width, height): (usize, usize),
+    spp: u32,
+    blocks_across: usize,
+) -> Option<Agreement> {
+    let root = common::shared_scene_folder("luxrender")?;
+    let desc = foton::scene::load(&root.join(scene)).unwrap_or_else(|e| panic!("{e}"));
+    let (gamma, tonemap) = (desc.film.gamma, tone_map(desc.film.tonemap));
+    let options = RenderOptions {
+        samples_per_pixel: Some(spp),
+        resolution: Some((width as u32, height as u32)),
+        ..RenderOptions::default()
+    };
+    let mut renderer = Renderer::new(build_world(desc, &options).0);
+    renderer.render(|_| true);
+    let mut ours = renderer.image();
+    let scale = exposure_scale(tonemap, &ours, gamma);
+    ours.iter_mut().for_each(|p| *p *= scale);
+    apply_display_tone_map(tonemap, &mut ours, gamma);
+    let ours: Vec<Vec3> = ours
+        .iter()
+        .map(|p| p.clamp(Vec3::ZERO, Vec3::ONE))
+        .collect();
+    let mirrored: Vec<Vec3> = (0..width * height)
+        .map(|i| ours[(i / width) * width + width - 1 - i % width])
+        .collect();
+
+    let (rw, rh, theirs) = read_png_linear(&root.join(reference)).expect("LuxRender's render");
+    let (rw, rh) = (rw as usize, rh as usize);
+    assert_eq!(rw * height, rh * width, "{reference}: another aspect ratio");
+    let factor = width / blocks_across;
+    let reference_factor = rw / blocks_across;
+    let ours_blocks = downsample(&ours, width, height, factor);
+    let mirrored_blocks = downsample(&mirrored, width, height, factor);
+    let reference_blocks = downsample(&theirs, rw, rh, reference_factor);
+    assert_eq!(ours_blocks.len(), reference_blocks.len());
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let agreement = Agreement {
+        correlation: correlation(&ours_blocks, &reference_blocks),
+        mirrored_correlation: correlation(&mirrored_blocks, &reference_blocks),
+        brightness: mean(&ours_blocks) / mean(&reference_blocks),
+    };
+    println!(
+        "{scene}: correlation {:.3} (mirrored {:.3}), brightness ratio {:.3}",
+        agreement.correlation, agreement.mirrored_correlation, agreement.brightness
+    );
+    Some(agreement)
+}
+
+/// The bar: block correlation at least 0.95, brightness within 10%; and the comparison
+/// must tell the mirror image apart.
+fn assert_matches(agreement: &Agreement) {
+    assert!(
+        agreement.correlation >= 0.95,
+        "correlation {}",
+        agreement.correlation
+    );
+    assert!(
+        agreement.mirrored_correlation < agreement.correlation - 0.05,
+        "the comparison cannot tell the mirror image apart: {}",
+        agreement.mirrored_correlation
+    );
+    assert!(
+        (0.9..=1.1).contains(&agreement.brightness),
+        "brightness ratio {}",
+        agreement.brightness
+    );
+}
+
+/// bidir-simple: LuxRender's bidirectional render (Metropolis, 1024 spp, Reinhard) of a matte
+/// room lit by a textured area light; foton path traces it.
+/// Measured (128x96, 64 spp): correlation 0.881 (mirrored -0.102), brightness 3.34x LuxRender's.
+#[test]
+#[ignore = "fails: correlation 0.881, brightness 3.34x LuxRender's (area light `texture L` scale not yet explained)"]
+fn bidir_simple_looks_like_luxrenders_render() {
+    if let Some(agreement) = compare_with_luxrender(
+        "bidir-simple/default.lxs",
+        "bidir-simple/reference-1024.png",
+        (128, 96),
+        64,
+        16,
+    ) {
+        assert_matches(&agreement);
+    }
+}
+
+/// bumpmapping: direct lighting (foton's ray caster) of bump-mapped matte surfaces under a
+/// point light.
+/// Measured (160x120, 16 spp): correlation 0.998 (mirrored 0.321), brightness 0.25x LuxRender's.
+#[test]
+#[ignore = "fails: brightness 0.25x LuxRender's (point light `texture L` scale, and bump mapping is on branch luxmat)"]
+fn bumpmapping_looks_like_luxrenders_render() {
+    if let Some(agreement) = compare_with_luxrender(
+        "bumpmapping/default.lxs",
+        "bumpmapping/reference.png",
+        (160, 120),
+        16,
+        16,
+    ) {
+        assert_matches(&agreement);
+    }
+}
+
+/// texture-examples: six spheres with LuxRender's procedural textures on a matte disk, an
+/// orthographic camera, a sphere light and a dim environment.
+/// Measured (200x300, 16 spp): correlation 0.838 (mirrored 0.142), brightness 1.016.
+#[test]
+#[ignore = "fails: correlation 0.838 (brightness 1.016): the procedural textures' patterns differ"]
+fn texture_examples_looks_like_luxrenders_render() {
+    if let Some(agreement) = compare_with_luxrender(
+        "texture-examples/texture-examples.lxs",
+        "texture-examples/texture-examples.png",
+        (200, 300),
+        16,
+        10,
+    ) {
+        assert_matches(&agreement);
+    }
 }

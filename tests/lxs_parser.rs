@@ -589,7 +589,8 @@ fn course_texture_dialect_loads_with_warnings() {
     assert_eq!(
         w[1],
         format!(
-            "{file}:2: warning: Texture \"metal1\" \"texture/metal-1.png\": found as {}",
+            "{file}:2: warning: files found in a parent folder of the file naming them; the first: \
+             Texture \"metal1\" \"texture/metal-1.png\" as {}",
             dir.join("texture/metal-1.png").display()
         )
     );
@@ -921,7 +922,7 @@ fn includes_resolve_next_to_the_including_file_then_in_parent_folders() {
         s.warnings[0].location,
         foton::scene::desc::Location::line(path.clone(), 3)
     );
-    assert!(s.warnings[0].message.contains("found as"));
+    assert!(s.warnings[0].message.contains("found in a parent folder"));
 }
 
 #[test]
@@ -1338,7 +1339,13 @@ fn cornell_box_details() {
     let s = load(&scenes.join("CornellBox/cornell-box.lxs")).unwrap();
     assert_eq!((s.film.x_resolution, s.film.y_resolution), (960, 540));
     assert_eq!(s.film.filename.as_deref(), Some("cornell-box.Scene.00244"));
-    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    // Its one departure: LuxRender's bidirectional integrator, path traced.
+    let w = messages(&s);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("SurfaceIntegrator \"bidirectional\""),
+        "{w:?}"
+    );
     let light = s.shapes.last().unwrap();
     assert_eq!(light.geometry, Geometry::Sphere { radius: 0.05 });
     // The sphere is scaled uniformly by k: its area is 4 pi (k r)^2.
@@ -1500,4 +1507,184 @@ fn unknown_type_names_are_warnings() {
         );
     }
     assert_eq!(s.film.x_resolution, 8);
+}
+
+// ---------------------------------------------------------------- real LuxRender scenes' needs
+
+#[test]
+fn directlighting_is_the_ray_caster_and_integrators_foton_lacks_warn_once() {
+    let s = scene(
+        "directlighting",
+        &format!("SurfaceIntegrator \"directlighting\" \"integer maxdepth\" [5]\n{WORLD}"),
+    );
+    assert_eq!(
+        s.integrator,
+        Some(foton::settings::IntegratorKind::RayCaster)
+    );
+    assert_eq!(s.max_depth, Some(5));
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    for kind in [
+        "bidirectional",
+        "sppm",
+        "exphotonmap",
+        "igi",
+        "distributedpath",
+    ] {
+        let s = scene(kind, &format!("SurfaceIntegrator \"{kind}\"\n{WORLD}"));
+        assert_eq!(s.integrator, None);
+        let w = messages(&s);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains(&format!("\"{kind}\"")) && w[0].contains("path tracer"),
+            "{w:?}"
+        );
+    }
+}
+
+#[test]
+fn volume_directives_warn_once_with_a_count() {
+    let s = scene(
+        "volumes",
+        "WorldBegin\nMakeNamedVolume \"glass\" \"clear\" \"float fresnel\" [1.5]\n\
+         Interior \"glass\"\nExterior \"world\"\nShape \"sphere\"\nInterior \"glass\"\nWorldEnd\n",
+    );
+    let w = messages(&s);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains(":2: warning: volumes"), "{w:?}");
+    assert!(w[0].ends_with("(4 times)"), "{w:?}");
+    assert_eq!(s.shapes.len(), 1);
+}
+
+#[test]
+fn camera_without_depth_of_field_as_luxblend_writes_it_is_a_pinhole() {
+    let s = scene(
+        "no_dof",
+        &format!(
+            "Camera \"perspective\" \"float fov\" [40] \"float lensradius\" [0] \
+             \"float focaldistance\" [0]\n{WORLD}"
+        ),
+    );
+    assert_eq!(s.camera.lens_radius, 0.0);
+    assert!(s.camera.focal_distance > 0.0);
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    let e = error(
+        "dof_at_zero",
+        &format!(
+            "Camera \"perspective\" \"float lensradius\" [0.1] \"float focaldistance\" [0]\n{WORLD}"
+        ),
+    );
+    assert!(e.message.contains("focaldistance"), "{e}");
+}
+
+/// LuxBlend 2.5 writes the names in an included `.lxo` relative to the main `.lxs`, which is
+/// where LuxRender looks: found there without a warning.
+#[test]
+fn names_in_included_files_resolve_against_the_main_scene_silently() {
+    let dir = temp_folder("main_dir");
+    write(
+        &dir,
+        "scene/geometry/objects.lxo",
+        "Include \"materials.lxm\"\nShape \"sphere\"\n",
+    );
+    write(&dir, "scene/materials.lxm", "Material \"matte\"\n");
+    let path = write(
+        &dir,
+        "scene/scene.lxs",
+        "WorldBegin\nInclude \"geometry/objects.lxo\"\nWorldEnd\n",
+    );
+    let s = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((s.materials.len(), s.shapes.len()), (1, 1));
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+}
+
+/// LuxRender's quadrics: a disk of radius r keeps its area pi r² in the plane z = height
+/// facing +z; a cylinder its area 2 pi r h with normals pointing out.
+#[test]
+fn disk_and_cylinder_shapes() {
+    let s = scene(
+        "quadrics",
+        "WorldBegin\nShape \"disk\" \"float radius\" [2] \"float height\" [0.5]\n\
+         Shape \"disk\" \"float radius\" [2] \"float innerradius\" [1] \"float phimax\" [90]\n\
+         Shape \"cylinder\" \"float radius\" [1] \"float zmin\" [0] \"float zmax\" [3]\nWorldEnd\n",
+    );
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    let area_and_normal = |geometry: &Geometry| {
+        let (positions, _, uvs, indices) = mesh(geometry);
+        assert!(uvs.is_some());
+        let mut area = 0.0;
+        let mut normal_sum = Vec3::ZERO;
+        for &[a, b, c] in indices {
+            let [pa, pb, pc] = [a, b, c].map(|i| positions[i as usize]);
+            let cross = (pb - pa).cross(pc - pa);
+            area += 0.5 * cross.length();
+            normal_sum += cross.normalize() * pa.truncate().extend(0.0).length().signum();
+        }
+        (area, positions.to_vec(), normal_sum)
+    };
+    let (area, positions, normals) = area_and_normal(&s.shapes[0].geometry);
+    assert!((area - std::f32::consts::PI * 4.0).abs() < 1e-3, "{area}");
+    assert!(positions.iter().all(|p| p.z == 0.5));
+    assert!(normals.normalize().dot(Vec3::Z) > 0.999, "{normals}");
+    let (area, positions, _) = area_and_normal(&s.shapes[1].geometry);
+    assert!(
+        (area - 0.25 * std::f32::consts::PI * 3.0).abs() < 1e-3,
+        "{area}"
+    );
+    assert!(positions.iter().all(|p| p.x >= -1e-4 && p.y >= -1e-4));
+    let (area, positions, _) = area_and_normal(&s.shapes[2].geometry);
+    assert!(
+        (area - 2.0 * std::f32::consts::PI * 3.0).abs() < 1e-3,
+        "{area}"
+    );
+    let (_, normals, _, indices) = mesh(&s.shapes[2].geometry);
+    for &[a, b, c] in indices {
+        let [pa, pb, pc] = [a, b, c].map(|i| positions[i as usize]);
+        let outward = ((pa + pb + pc) / 3.0).truncate().extend(0.0);
+        assert!((pb - pa).cross(pc - pa).dot(outward) > 0.0);
+        assert!(normals.unwrap()[a as usize].dot(outward) > 0.0);
+    }
+}
+
+/// `ObjectInstance` draws the object's shapes under the instance's transformation times their
+/// own: the same shapes as writing them out in place.
+#[test]
+fn object_instances_equal_their_shapes_written_out() {
+    let instanced = scene(
+        "instanced",
+        "WorldBegin\nMaterial \"matte\"\nObjectBegin \"pair\"\nTranslate 0 0 1\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nObjectEnd\n\
+         Shape \"sphere\" \"float radius\" [3]\n\
+         AttributeBegin\nTranslate 5 0 0\nObjectInstance \"pair\"\nAttributeEnd\n\
+         AttributeBegin\nRotate 90 0 0 1\nScale 2 2 2\nObjectInstance \"pair\"\nAttributeEnd\nWorldEnd\n",
+    );
+    let written_out = scene(
+        "written_out",
+        "WorldBegin\nMaterial \"matte\"\nShape \"sphere\" \"float radius\" [3]\n\
+         AttributeBegin\nTranslate 5 0 0\nTranslate 0 0 1\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nAttributeEnd\n\
+         AttributeBegin\nRotate 90 0 0 1\nScale 2 2 2\nTranslate 0 0 1\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nAttributeEnd\nWorldEnd\n",
+    );
+    assert!(instanced.warnings.is_empty(), "{:?}", messages(&instanced));
+    assert_eq!(instanced.shapes.len(), 5);
+    assert_eq!(instanced.shapes.len(), written_out.shapes.len());
+    for (a, b) in instanced.shapes.iter().zip(&written_out.shapes) {
+        assert!(
+            a.object_to_world.abs_diff_eq(b.object_to_world, 1e-5),
+            "{} {}",
+            a.object_to_world,
+            b.object_to_world
+        );
+        assert_eq!(format!("{:?}", a.geometry), format!("{:?}", b.geometry));
+        assert_eq!(a.material, b.material);
+    }
+    assert_eq!(
+        instanced.notes,
+        ["2 ObjectInstance of 1 objects flattened into 4 shapes"]
+    );
+    let e = error(
+        "no_object",
+        "WorldBegin\nObjectInstance \"nothing\"\nWorldEnd\n",
+    );
+    assert_eq!(e.location.line, 2);
 }

@@ -149,8 +149,9 @@ pub struct SceneArgs {
     /// Stop after the pass that crosses this many seconds, and write what is done.
     #[arg(long, value_parser = parse_in(0.0, f32::MAX))]
     pub time_limit: Option<f32>,
-    #[arg(long, value_enum, default_value_t = IntegratorArg::Path)]
-    pub integrator: IntegratorArg,
+    /// The integrator (default: the scene's, else path).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
     #[arg(long, value_enum, default_value_t = SamplerArg::MultiJittered)]
     pub sampler: SamplerArg,
     /// Use this camera instead of the scene's.
@@ -305,10 +306,10 @@ impl SceneArgs {
                 SamplerArg::Stratified => SamplerKind::Stratified,
                 SamplerArg::MultiJittered => SamplerKind::MultiJittered,
             },
-            integrator: match self.integrator {
+            integrator: self.integrator.map(|integrator| match integrator {
                 IntegratorArg::Path => IntegratorKind::PathTracer,
                 IntegratorArg::Raycast => IntegratorKind::RayCaster,
-            },
+            }),
             time_limit: self.time_limit.map(std::time::Duration::from_secs_f32),
             camera: self.camera,
             focal_distance: self.focal_distance,

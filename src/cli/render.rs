@@ -29,6 +29,11 @@ fn load(args: &SceneArgs) -> Result<(SceneDesc, usize), Failure> {
     for warning in &desc.warnings {
         eprintln!("{warning}");
     }
+    if args.verbose {
+        for note in &desc.notes {
+            eprintln!("{}: note: {note}", args.scene.display());
+        }
+    }
     let mut warnings = desc.warnings.len();
     let has_area_lights = desc.shapes.iter().any(|s| s.area_light.is_some());
     if desc.shapes.is_empty() && desc.lights.is_empty() {

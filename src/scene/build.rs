@@ -36,7 +36,8 @@ pub struct RenderOptions {
     pub resolution: Option<(u32, u32)>,
     pub seed: u64,
     pub sampler: SamplerKind,
-    pub integrator: IntegratorKind,
+    /// The integrator; the scene's (else the path tracer) when `None`.
+    pub integrator: Option<IntegratorKind>,
     pub time_limit: Option<std::time::Duration>,
     /// The camera to use instead of the scene's.
     pub camera: Option<&'static CameraType>,
@@ -56,7 +57,7 @@ impl Default for RenderOptions {
             resolution: None,
             seed: 0,
             sampler: SamplerKind::MultiJittered,
-            integrator: IntegratorKind::PathTracer,
+            integrator: None,
             time_limit: None,
             camera: None,
             focal_distance: None,
@@ -90,7 +91,10 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
             .unwrap_or(DEFAULT_MAX_DEPTH),
         seed: options.seed,
         sampler: options.sampler,
-        integrator: options.integrator,
+        integrator: options
+            .integrator
+            .or(desc.integrator)
+            .unwrap_or(IntegratorKind::PathTracer),
         time_limit: options.time_limit,
         pixels: options.pixels.clone(),
     };

@@ -15,6 +15,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
 use crate::camera::{CameraType, pinhole};
+use crate::settings::IntegratorKind;
 pub use crate::texture::TextureGraph;
 
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
@@ -84,6 +85,8 @@ pub struct SceneDesc {
     pub pixel_samples: Option<u32>,
     /// `SurfaceIntegrator "maxdepth"` or `"eyedepth"`, if given.
     pub max_depth: Option<u32>,
+    /// The integrator the scene asks for, where foton has it (the command line overrides it).
+    pub integrator: Option<IntegratorKind>,
     pub filter: FilterDesc,
     /// Decoded images, referred to by the texture graph's image nodes and by lights.
     pub textures: Vec<ImageTexture>,
@@ -95,6 +98,8 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     /// Warnings met while loading, in file order.
     pub warnings: Vec<SceneWarning>,
+    /// What the loader adapted within the format (printed by `--verbose`).
+    pub notes: Vec<String>,
 }
 
 impl SceneDesc {
@@ -122,6 +127,7 @@ impl SceneDesc {
             },
             pixel_samples: None,
             max_depth: None,
+            integrator: None,
             filter: FilterDesc {
                 kind: FilterKind::Box,
                 radius: Vec2::splat(0.5),
@@ -132,6 +138,7 @@ impl SceneDesc {
             shapes: Vec::new(),
             lights: Vec::new(),
             warnings: Vec::new(),
+            notes: Vec::new(),
         }
     }
 }

@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use foton::film::luminance;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::*;
@@ -236,4 +237,26 @@ pub fn shared_scene_folder(folder: &str) -> Option<PathBuf> {
         );
     }
     found
+}
+
+/// Box-averages a `w` x `h` image down by `factor` in each axis.
+pub fn downsample(pixels: &[Vec3], w: usize, h: usize, factor: usize) -> Vec<f32> {
+    let (dw, dh) = (w / factor, h / factor);
+    let mut out = vec![0.0; dw * dh];
+    for y in 0..dh * factor {
+        for x in 0..dw * factor {
+            out[(y / factor) * dw + x / factor] += luminance(pixels[y * w + x]);
+        }
+    }
+    out.iter().map(|v| v / (factor * factor) as f32).collect()
+}
+
+/// Pearson correlation of two equally long series.
+pub fn correlation(a: &[f32], b: &[f32]) -> f32 {
+    let n = a.len() as f32;
+    let (ma, mb) = (a.iter().sum::<f32>() / n, b.iter().sum::<f32>() / n);
+    let cov: f32 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f32 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f32 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
 }

@@ -42,6 +42,13 @@ impl Parser {
         };
         let lens_radius = params.float("lensradius")?.unwrap_or(0.0);
         let focal_distance = params.float("focaldistance")?.unwrap_or(1e6);
+        // LuxBlend writes lensradius 0 and focaldistance 0 when depth of field is off: a pinhole,
+        // whose focal distance means nothing.
+        let focal_distance = if lens_radius == 0.0 && focal_distance == 0.0 {
+            1e6
+        } else {
+            focal_distance
+        };
         if lens_radius < 0.0 || focal_distance <= 0.0 {
             return Err(self.error(
                 line,

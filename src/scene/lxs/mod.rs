@@ -4,9 +4,11 @@
 mod camera;
 mod lights;
 mod materials;
+mod objects;
 mod params;
 mod parser;
 mod paths;
+mod quadrics;
 mod shapes;
 mod textures;
 mod tokenizer;

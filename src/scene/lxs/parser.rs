@@ -7,10 +7,14 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 
 use super::lights::AreaLight;
+use super::objects::OpenObject;
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
-use crate::scene::desc::{ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning};
+use crate::scene::desc::{
+    ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning, ShapeDesc,
+};
+use crate::settings::IntegratorKind;
 
 /// What `AttributeBegin`/`AttributeEnd` save and restore.
 #[derive(Clone, Debug)]
@@ -37,6 +41,7 @@ impl Default for GraphicsState {
 enum Block {
     Attribute,
     Transform,
+    Object,
 }
 
 impl Block {
@@ -44,6 +49,7 @@ impl Block {
         match self {
             Block::Attribute => "AttributeBegin",
             Block::Transform => "TransformBegin",
+            Block::Object => "ObjectBegin",
         }
     }
 }
@@ -98,10 +104,18 @@ pub(super) struct Parser {
     /// The file being read and its folder (paths in it resolve against that folder).
     pub file: PathBuf,
     pub dir: PathBuf,
+    /// The main scene file's folder (LuxRender resolves names in included files against it).
+    main_dir: PathBuf,
     /// Absolute paths of the files being read, outermost first (to catch Include cycles).
     include_chain: Vec<PathBuf>,
     pub named_materials: HashMap<String, MaterialId>,
     pub named_textures: HashMap<String, ColorParam>,
+    /// `ObjectBegin` … `ObjectEnd`: the object being defined, and those defined.
+    pub open_object: Option<OpenObject>,
+    pub objects: HashMap<String, Vec<ShapeDesc>>,
+    /// `ObjectInstance`s read, and the shapes they drew.
+    pub instance_count: usize,
+    pub instanced_shapes: usize,
     /// What has been read so far.
     pub scene: SceneDesc,
 }
@@ -115,9 +129,14 @@ impl Parser {
             world_ended: false,
             file: path.to_path_buf(),
             dir: PathBuf::new(),
+            main_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
             include_chain: Vec::new(),
             named_materials: HashMap::new(),
             named_textures: HashMap::new(),
+            open_object: None,
+            objects: HashMap::new(),
+            instance_count: 0,
+            instanced_shapes: 0,
             scene: SceneDesc::empty(Location::line(path, 0)),
         }
     }
@@ -144,13 +163,19 @@ impl Parser {
     /// Finds a file named in the current file (see `paths::resolve`), warning when it was found
     /// in a parent folder. `what` is the naming text, e.g. `Include "x.lxo"`.
     pub fn resolve(&mut self, name: &str, line: usize, what: &str) -> Result<PathBuf, SceneError> {
-        match resolve(name, &self.dir) {
+        match resolve(name, &self.dir, &self.main_dir) {
             Ok(Resolved {
                 path,
                 found_in_parent,
             }) => {
                 if found_in_parent {
-                    self.warn(line, format!("{what}: found as {}", path.display()));
+                    self.warn(
+                        line,
+                        format!(
+                            "files found in a parent folder of the file naming them{FIRST_EXAMPLE}{what} as {}",
+                            path.display()
+                        ),
+                    );
                 }
                 Ok(path)
             }
@@ -295,6 +320,28 @@ impl Parser {
                 let target = strings.remove(0);
                 self.include(&target, line)?;
             }
+            "ObjectBegin" => {
+                let name = self.one_name(name, line, args)?;
+                self.object_begin(&name, line)?;
+                self.stack
+                    .push((Block::Object, self.state.clone(), self.location(line)));
+            }
+            "ObjectEnd" => {
+                self.numbers(name, line, args, 0)?;
+                self.end_block(Block::Object, name, line)?;
+                self.object_end(line)?;
+            }
+            "ObjectInstance" => {
+                let name = self.one_name(name, line, args)?;
+                self.object_instance(&name, line)?;
+            }
+            "MakeNamedVolume" | "Interior" | "Exterior" => {
+                // Participating media: once per kind, with a count (see `once_per_kind`).
+                self.warn(
+                    line,
+                    "volumes (MakeNamedVolume, Interior, Exterior) are not rendered: ignored",
+                );
+            }
             _ => {
                 let Some(kind) = self.known_with_params(name) else {
                     self.warn(line, format!("unknown directive {name} ignored"));
@@ -347,6 +394,7 @@ impl Parser {
                 self.scene.pixel_samples = self.positive_int(params, "pixelsamples", line)?;
             }
             "SurfaceIntegrator" => {
+                self.surface_integrator(first, line);
                 let depth = match self.count(params, "maxdepth", line)? {
                     Some(depth) => Some(depth),
                     None => self.count(params, "eyedepth", line)?,
@@ -404,7 +452,7 @@ impl Parser {
         match self.stack.pop() {
             Some((open, saved, _)) if open == block => {
                 match block {
-                    Block::Attribute => self.state = saved,
+                    Block::Attribute | Block::Object => self.state = saved,
                     Block::Transform => self.state.ctm = saved.ctm,
                 }
                 Ok(())
@@ -448,6 +496,15 @@ impl Parser {
 
     /// The leading quoted strings of a directive (`count` of them; `Texture` may take two more:
     /// its type and class) and the parameter-list tokens after them.
+    /// The one quoted name after a directive (`ObjectBegin "name"`), and nothing else.
+    fn one_name(&self, name: &str, line: usize, args: &[Token]) -> Result<String, SceneError> {
+        let (mut strings, rest) = self.strings(name, line, args, 1)?;
+        if !rest.is_empty() {
+            return Err(self.error(line, format!("{name} takes one quoted name only")));
+        }
+        Ok(strings.remove(0))
+    }
+
     fn strings<'t>(
         &self,
         name: &str,
@@ -522,8 +579,30 @@ impl Parser {
         }
     }
 
+    /// `SurfaceIntegrator`: `directlighting` (direct light plus specular bounces) is foton's
+    /// ray caster; the integrators foton lacks are path traced, which converges to the same
+    /// image (`bidirectional`, `sppm`, …) or a less biased one (`igi`, `exphotonmap`).
+    fn surface_integrator(&mut self, kind: &str, line: usize) {
+        self.scene.integrator = match kind {
+            "directlighting" => Some(IntegratorKind::RayCaster),
+            "path" => Some(IntegratorKind::PathTracer),
+            "bidirectional" | "distributedpath" | "exphotonmap" | "igi" | "sppm" => {
+                self.warn(
+                    line,
+                    format!(
+                        "SurfaceIntegrator \"{kind}\" is not in foton: rendered with its path tracer \
+                         (unidirectional, next-event estimation with MIS)"
+                    ),
+                );
+                None
+            }
+            // Not LuxRender's: `with_params` has warned of the unknown type.
+            _ => None,
+        };
+    }
+
     /// Checks that nothing was left open at the end of the scene, and hands over the result.
-    fn finish(self) -> Result<SceneDesc, SceneError> {
+    fn finish(mut self) -> Result<SceneDesc, SceneError> {
         if let Some((block, _, at)) = self.stack.last() {
             return Err(SceneError {
                 location: at.clone(),
@@ -538,6 +617,15 @@ impl Parser {
                 message: "WorldBegin is never closed by WorldEnd".into(),
             });
         }
+        if self.instance_count > 0 {
+            self.scene.notes.push(format!(
+                "{} ObjectInstance of {} objects flattened into {} shapes",
+                self.instance_count,
+                self.objects.len(),
+                self.instanced_shapes
+            ));
+        }
+        self.scene.warnings = once_per_kind(std::mem::take(&mut self.scene.warnings));
         Ok(self.scene)
     }
 }
@@ -547,4 +635,35 @@ pub(super) fn parse(path: &Path) -> Result<SceneDesc, SceneError> {
     let mut parser = Parser::new(path);
     parser.read_file(path)?;
     parser.finish()
+}
+
+/// Separates a warning's kind from its first example, where occurrences differ in their text.
+const FIRST_EXAMPLE: &str = "; the first: ";
+
+/// Warnings once per kind: where several say the same (or the same kind, for files found in a
+/// parent folder), the first stays, at its location, with the count of all of them.
+fn once_per_kind(warnings: Vec<SceneWarning>) -> Vec<SceneWarning> {
+    let kind = |w: &SceneWarning| match w.message.split_once(FIRST_EXAMPLE) {
+        Some((kind, _)) => kind.to_string(),
+        None => w.message.clone(),
+    };
+    let mut first_of_kind: HashMap<String, usize> = HashMap::new();
+    let mut kept: Vec<(SceneWarning, usize)> = Vec::new();
+    for warning in warnings {
+        match first_of_kind.entry(kind(&warning)) {
+            std::collections::hash_map::Entry::Occupied(index) => kept[*index.get()].1 += 1,
+            std::collections::hash_map::Entry::Vacant(slot) => {
+                slot.insert(kept.len());
+                kept.push((warning, 1));
+            }
+        }
+    }
+    kept.into_iter()
+        .map(|(mut warning, count)| {
+            if count > 1 {
+                warning.message = format!("{} ({count} times)", warning.message);
+            }
+            warning
+        })
+        .collect()
 }

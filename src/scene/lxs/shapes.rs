@@ -1,9 +1,11 @@
-//! `Shape`: spheres, triangle meshes (inline or PLY), and the course's planes and boxes.
+//! `Shape`: spheres, disks, cylinders, triangle meshes (inline or PLY), and the course's planes
+//! and boxes.
 
 use glam::{Vec2, Vec3};
 
 use super::params::ParamList;
 use super::parser::Parser;
+use super::quadrics;
 use crate::scene::desc::{Geometry, SceneError, ShapeDesc};
 use crate::scene::io::ply;
 
@@ -24,6 +26,32 @@ impl Parser {
                     );
                 }
                 Geometry::Sphere { radius }
+            }
+            "disk" => {
+                let height = params.float("height")?.unwrap_or(0.0);
+                let radius = params.float("radius")?.unwrap_or(1.0);
+                let inner_radius = params.float("innerradius")?.unwrap_or(0.0);
+                let phi_max = self.phi_max(line, params)?;
+                if !(0.0 <= inner_radius && inner_radius < radius) {
+                    return Err(self.error(
+                        line,
+                        format!("disk: need 0 <= innerradius ({inner_radius}) < radius ({radius})"),
+                    ));
+                }
+                quadrics::disk(height, radius, inner_radius, phi_max)
+            }
+            "cylinder" => {
+                let radius = params.float("radius")?.unwrap_or(1.0);
+                let z0 = params.float("zmin")?.unwrap_or(-1.0);
+                let z1 = params.float("zmax")?.unwrap_or(1.0);
+                let phi_max = self.phi_max(line, params)?;
+                if radius <= 0.0 || z0 == z1 {
+                    return Err(self.error(
+                        line,
+                        format!("cylinder: radius {radius} must be positive and zmin {z0} differ from zmax {z1}"),
+                    ));
+                }
+                quadrics::cylinder(radius, z0.min(z1), z0.max(z1), phi_max)
             }
             "trianglemesh" | "mesh" => match self.inline_mesh(kind, line, params)? {
                 Some(mesh) => mesh,
@@ -143,6 +171,17 @@ impl Parser {
                 .map(|t| [t[0], t[1], t[2]])
                 .collect(),
         }))
+    }
+
+    /// A quadric's `phimax` in radians: degrees, 360 by default, clamped to [0, 360] as
+    /// LuxRender does; zero (nothing to draw) is an error.
+    fn phi_max(&self, line: usize, params: &mut ParamList) -> Result<f32, SceneError> {
+        let degrees = params.float("phimax")?.unwrap_or(360.0).clamp(0.0, 360.0);
+        if degrees > 0.0 {
+            Ok(degrees.to_radians())
+        } else {
+            Err(self.error(line, "phimax must be positive"))
+        }
     }
 
     /// `ReverseOrientation`: flips which side faces out.
