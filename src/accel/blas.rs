@@ -5,10 +5,13 @@
 //! payload says which, where the run starts and how long it is. Each packet lane and each
 //! sphere carries its primitive id, so a hit needs no lookup.
 
+use std::ops::Range;
+
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
-use super::memory::on_huge_pages;
+use super::memory::{on_huge_pages, prefetch};
 use super::sphere::Sphere;
 use super::triangle::{Triangle4, triangle_bounds};
 use super::{BuildStats, Hit, SphereInstance};
@@ -20,6 +23,9 @@ const SPHERE_LEAF: u32 = 1 << 30;
 /// (2²⁸ triangles) and as many spheres.
 const COUNT_BITS: u32 = 4;
 const MAX_START: usize = 1 << (30 - COUNT_BITS);
+
+/// Cache lines a leaf's first packet spans at most (160 bytes from a 16-byte boundary).
+const PACKET_LINES: usize = 4;
 
 /// Build groups: a leaf holds one kind only.
 const TRIANGLES: u32 = 0;
@@ -38,24 +44,25 @@ impl Blas {
     pub fn build(
         triangles: &[[Vec3; 3]],
         spheres: &[SphereInstance],
-        triangle_id: impl Fn(usize) -> u32,
+        triangle_id: impl Fn(usize) -> u32 + Sync,
         sphere_id: impl Fn(usize) -> u32,
     ) -> Blas {
-        let triangle_prims = (triangles.iter().enumerate())
+        let triangle_prims = (triangles.par_iter().enumerate())
             .filter_map(|(i, t)| Some(BuildPrim::new(triangle_bounds(t)?, i as u32, TRIANGLES)));
-        let sphere_prims = (spheres.iter().enumerate())
+        let sphere_prims = (spheres.par_iter().enumerate())
             .filter_map(|(i, s)| Some(BuildPrim::new(Sphere::bounds(s)?, i as u32, SPHERES)));
         let mut prims: Vec<BuildPrim> = triangle_prims.chain(sphere_prims).collect();
-        let mut packets = Vec::with_capacity(prims.len() / 3);
+        // The tree's walk over the leaves only numbers the packets; they are packed afterwards,
+        // in parallel, from the triangle leaves' runs of `prims` in that order.
+        let mut triangle_runs: Vec<Range<usize>> = Vec::new();
+        let mut packet_count = 0;
         let mut sphere_list = Vec::new();
-        let (bvh, shape) = Bvh::build(&mut prims, |run| {
+        let (bvh, shape) = Bvh::build(&mut prims, |first, run| {
             let (start, count, kind) = if run[0].group == TRIANGLES {
-                let start = packets.len();
-                packets.extend(run.chunks(LEAF_BLOCK).map(|block| {
-                    let lanes = block.iter().map(|p| p.id as usize);
-                    Triangle4::new(lanes.map(|i| (&triangles[i], triangle_id(i))))
-                }));
-                (start, packets.len() - start, 0)
+                let start = packet_count;
+                packet_count += run.len().div_ceil(LEAF_BLOCK);
+                triangle_runs.push(first..first + run.len());
+                (start, packet_count - start, 0)
             } else {
                 let start = sphere_list.len();
                 sphere_list.extend(run.iter().map(|p| {
@@ -67,6 +74,14 @@ impl Blas {
             assert!(start < MAX_START, "more than 2^26 leaf runs in one tree");
             kind | (start as u32) << COUNT_BITS | count as u32
         });
+        let packets: Vec<Triangle4> = (triangle_runs.par_iter())
+            .flat_map_iter(|run| {
+                prims[run.clone()].chunks(LEAF_BLOCK).map(|block| {
+                    let lanes = block.iter().map(|p| p.id as usize);
+                    Triangle4::new(lanes.map(|i| (&triangles[i], triangle_id(i))))
+                })
+            })
+            .collect();
         Blas {
             bvh,
             packets: on_huge_pages(packets),
@@ -137,6 +152,13 @@ impl Blas {
                     }
                 }
                 false
+            },
+            #[inline(always)]
+            |payload| {
+                if payload & SPHERE_LEAF == 0 {
+                    let start = (payload >> COUNT_BITS) as usize;
+                    prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
+                }
             },
         )
     }

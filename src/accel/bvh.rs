@@ -11,9 +11,10 @@
 use std::mem::MaybeUninit;
 
 use glam::{Vec3A, Vec4};
+use rayon::prelude::*;
 
 use super::aabb::Aabb;
-use super::memory::on_huge_pages;
+use super::memory::{on_huge_pages, prefetch};
 
 /// Number of SAH bins per axis; Wald 2007 finds 16 to lose almost nothing against a full sweep.
 const BINS: usize = 16;
@@ -32,10 +33,14 @@ const SAH_DEPTH_LIMIT: usize = 31;
 const STACK_SIZE: usize = 3 * 64 + 1;
 /// Subtrees with more primitives than this are built in parallel (rayon::join).
 const PARALLEL_THRESHOLD: usize = 4096;
+/// Nodes with more primitives than this compute their bounds and SAH bins in parallel chunks.
+const PARALLEL_FOLD_THRESHOLD: usize = 1 << 16;
 /// pbrt-v4's `1 + 2γ₃` (§6.8.2): widens the slab test's far distance to cover the rounding of
 /// `(bound - o) * inv_dir`, so a box is never missed by a ray that grazes it.
 const SLAB_ROBUSTNESS: f32 =
     1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+/// Cache lines per node.
+const NODE_LINES: usize = std::mem::size_of::<Node>() / 64;
 /// A child word with this bit set is a leaf; the other 31 bits are the caller's payload.
 const LEAF: u32 = 1 << 31;
 
@@ -167,12 +172,13 @@ pub(crate) struct Bvh {
 }
 
 impl Bvh {
-    /// Builds the tree over `prims`, reordering them, and calls `leaf` on each leaf's run of
-    /// primitives (all of one group, at most [`MAX_LEAF_SIZE`]) in depth-first order; `leaf`
-    /// returns the payload traversal hands back, below 2³¹.
+    /// Builds the tree over `prims`, reordering them, and calls `leaf(first, run)` on each
+    /// leaf's run of primitives (all of one group, at most [`MAX_LEAF_SIZE`], from
+    /// `prims[first]` on) in depth-first order; `leaf` returns the payload traversal hands
+    /// back, below 2³¹.
     pub fn build(
         prims: &mut [BuildPrim],
-        mut leaf: impl FnMut(&[BuildPrim]) -> u32,
+        mut leaf: impl FnMut(usize, &[BuildPrim]) -> u32,
     ) -> (Bvh, Shape) {
         let mut shape = Shape::default();
         let mut nodes = Vec::new();
@@ -202,11 +208,21 @@ impl Bvh {
     /// Visits every leaf whose box the ray enters with `t` in `(t_min, t_max)`, nearest box
     /// first, and calls `leaf(payload, &mut t_max)` on it. The closure may shrink `t_max`
     /// (closest hit): subtrees entered beyond it are then skipped. It returns `true` to stop
-    /// (any hit), and so does `traverse`.
+    /// (any hit), and so does `traverse`. `prefetch_leaf(payload)` is called as soon as a
+    /// leaf's box is entered, before the leaf is visited (if it is), to start loading its
+    /// primitives.
     #[inline(always)]
-    pub fn traverse<F>(&self, ray: &Ray, t_min: f32, t_max: &mut f32, mut leaf: F) -> bool
+    pub fn traverse<F, P>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        mut leaf: F,
+        prefetch_leaf: P,
+    ) -> bool
     where
         F: FnMut(u32, &mut f32) -> bool,
+        P: Fn(u32),
     {
         let Some((mut current, _)) = self.root else {
             return false;
@@ -232,6 +248,16 @@ impl Bvh {
                         let lane = mask.trailing_zeros() as usize;
                         mask &= mask - 1;
                         let item = (node.child[lane], near[lane]);
+                        // Nearly every node of a large tree misses the caches: start loading
+                        // each entered child now, not when it is reached.
+                        if item.0 & LEAF == 0 {
+                            prefetch(
+                                self.nodes.as_ptr().wrapping_add(item.0 as usize),
+                                NODE_LINES,
+                            );
+                        } else {
+                            prefetch_leaf(item.0 & !LEAF);
+                        }
                         let mut i = count;
                         while i > 0 && entered[i - 1].1 < item.1 {
                             entered[i] = entered[i - 1];
@@ -288,9 +314,12 @@ impl BuildNode {
 
 /// Builds the subtree over `prims`, which are slots `start..start + prims.len()`.
 fn build_recursive(prims: &mut [BuildPrim], start: usize, depth: usize) -> BuildNode {
-    let (bounds, centroids) = prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| {
-        (b.union(p.bounds), c.grow(p.centroid))
-    });
+    let (bounds, centroids) = over_chunks(
+        prims,
+        || (Aabb::EMPTY, Aabb::EMPTY),
+        |(b, c): &mut (Aabb, Aabb), p| (*b, *c) = (b.union(p.bounds), c.grow(p.centroid)),
+        |(b0, c0), (b1, c1)| (b0.union(b1), c0.union(c1)),
+    );
     let n = prims.len();
     let leaf = BuildNode::Leaf {
         bounds,
@@ -336,6 +365,31 @@ fn build_recursive(prims: &mut [BuildPrim], start: usize, depth: usize) -> Build
     }
 }
 
+/// Accumulates `prims` with `add` into `empty()`: in parallel chunks whose results `merge` combines
+/// when there are many of them (the top levels of the tree, where the recursion has not yet
+/// spread over the threads). `merge` must be associative (unions and sums are), so the result
+/// does not depend on how the chunks fall.
+fn over_chunks<T: Send>(
+    prims: &[BuildPrim],
+    empty: impl Fn() -> T + Sync + Send,
+    add: impl Fn(&mut T, &BuildPrim) + Sync + Send,
+    merge: impl Fn(T, T) -> T + Sync + Send,
+) -> T {
+    let accumulate = |chunk: &[BuildPrim]| {
+        let mut acc = empty();
+        for p in chunk {
+            add(&mut acc, p);
+        }
+        acc
+    };
+    if prims.len() <= PARALLEL_FOLD_THRESHOLD {
+        return accumulate(prims);
+    }
+    (prims.par_chunks(PARALLEL_FOLD_THRESHOLD / 4))
+        .map(accumulate)
+        .reduce(&empty, &merge)
+}
+
 /// The SAH cost weight of `n` primitives in a leaf: the number of blocks that test them.
 fn blocks(n: usize) -> f32 {
     n.div_ceil(LEAF_BLOCK) as f32
@@ -359,17 +413,31 @@ fn sah_split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb) -> Option
         k.min(BINS - 1)
     };
 
-    let mut counts = [[0usize; BINS]; 3];
-    let mut boxes = [[Aabb::EMPTY; BINS]; 3];
-    for p in prims.iter() {
-        for axis in 0..3 {
-            if extent[axis] > 0.0 {
-                let k = bin_of(p, axis);
-                counts[axis][k] += 1;
-                boxes[axis][k] = boxes[axis][k].union(p.bounds);
+    // Per axis and bin: how many centroids fall in it, and the box around their primitives.
+    type Bins = ([[usize; BINS]; 3], [[Aabb; BINS]; 3]);
+    let empty_bins = || -> Bins { ([[0; BINS]; 3], [[Aabb::EMPTY; BINS]; 3]) };
+    let (counts, boxes) = over_chunks(
+        prims,
+        empty_bins,
+        |(counts, boxes): &mut Bins, p| {
+            for axis in 0..3 {
+                if extent[axis] > 0.0 {
+                    let k = bin_of(p, axis);
+                    counts[axis][k] += 1;
+                    boxes[axis][k] = boxes[axis][k].union(p.bounds);
+                }
             }
-        }
-    }
+        },
+        |(mut counts, mut boxes), (more_counts, more_boxes)| {
+            for axis in 0..3 {
+                for k in 0..BINS {
+                    counts[axis][k] += more_counts[axis][k];
+                    boxes[axis][k] = boxes[axis][k].union(more_boxes[axis][k]);
+                }
+            }
+            (counts, boxes)
+        },
+    );
 
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in (0..3).filter(|&axis| extent[axis] > 0.0) {
@@ -435,14 +503,14 @@ fn collapse(
     prims: &[BuildPrim],
     nodes: &mut Vec<Node>,
     shape: &mut Shape,
-    leaf: &mut impl FnMut(&[BuildPrim]) -> u32,
+    leaf: &mut impl FnMut(usize, &[BuildPrim]) -> u32,
 ) -> u32 {
     match node {
         BuildNode::Leaf { start, count, .. } => {
             shape.leaves += 1;
             shape.max_depth = shape.max_depth.max(depth);
             shape.max_leaf_size = shape.max_leaf_size.max(*count);
-            let payload = leaf(&prims[*start..start + count]);
+            let payload = leaf(*start, &prims[*start..start + count]);
             debug_assert!(payload < LEAF);
             LEAF | payload
         }
@@ -517,7 +585,7 @@ mod tests {
     fn wide_tree_is_consistent() {
         let mut p = prims(5000);
         let mut leaves = Vec::new();
-        let (bvh, shape) = Bvh::build(&mut p, |run| {
+        let (bvh, shape) = Bvh::build(&mut p, |_, run| {
             leaves.push(run.to_vec());
             (leaves.len() - 1) as u32
         });
@@ -569,7 +637,7 @@ mod tests {
             &p,
             &mut Vec::new(),
             &mut shape,
-            &mut |_| 0,
+            &mut |_, _| 0,
         );
         assert!(
             shape.max_depth <= SAH_DEPTH_LIMIT + 10,

@@ -53,7 +53,7 @@ impl Instances {
             })
             .collect();
         let mut placed = Vec::new();
-        let (bvh, shape) = Bvh::build(&mut prims, |run| {
+        let (bvh, shape) = Bvh::build(&mut prims, |_, run| {
             let start = placed.len();
             placed.extend(run.iter().map(|p| {
                 let k = p.id as usize;
@@ -124,6 +124,7 @@ impl Instances {
                 }
                 false
             },
+            |_| {},
         )
     }
 }

@@ -90,12 +90,17 @@ impl Triangle4 {
         let inv_det = Vec4::ONE / det;
         let s = [o[0] - self.v0[0], o[1] - self.v0[1], o[2] - self.v0[2]];
         let u = dot(&s, &p) * inv_det;
+        // Most packets a ray reaches lie beside it: when no lane passes the first barycentric
+        // test, stop before the second cross product (the same operations on the lanes that
+        // go on, so the results are unchanged).
+        let u_mask = det.cmpne(Vec4::ZERO) & u.cmpge(Vec4::ZERO) & u.cmple(Vec4::ONE);
+        if u_mask.bitmask() == 0 {
+            return None;
+        }
         let q = cross(&s, e1);
         let v = dot(d, &q) * inv_det;
         let t = dot(e2, &q) * inv_det;
-        let mask = det.cmpne(Vec4::ZERO)
-            & u.cmpge(Vec4::ZERO)
-            & u.cmple(Vec4::ONE)
+        let mask = u_mask
             & v.cmpge(Vec4::ZERO)
             & (u + v).cmple(Vec4::ONE)
             & t.cmpgt(Vec4::splat(t_min))
