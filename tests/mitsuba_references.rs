@@ -148,3 +148,8 @@ fn point_and_directional_lights_match_mitsuba() {
 fn environment_map_matches_mitsuba() {
     agrees("envmap");
 }
+
+#[test]
+fn rough_glass_plastics_and_thin_glass_match_mitsuba() {
+    agrees("coatings");
+}

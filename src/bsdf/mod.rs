@@ -122,9 +122,9 @@ impl Bsdf {
             Bsdf::RoughDielectric(d) => d.eval(wo, wi),
             Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::RoughPlastic(p) => p.eval(wo, wi),
-            Bsdf::SpecularReflection { .. }
-            | Bsdf::Dielectric { .. }
-            | Bsdf::ThinDielectric(_) => Vec3::ZERO,
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
+                Vec3::ZERO
+            }
         };
         if f.is_finite() { f } else { Vec3::ZERO }
     }
@@ -147,9 +147,9 @@ impl Bsdf {
             Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
             Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
-            Bsdf::SpecularReflection { .. }
-            | Bsdf::Dielectric { .. }
-            | Bsdf::ThinDielectric(_) => 0.0,
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
+                0.0
+            }
         };
         if pdf.is_finite() && pdf > 0.0 {
             pdf

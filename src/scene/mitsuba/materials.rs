@@ -312,7 +312,11 @@ fn plastic(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError
             format!(
                 "principled approximated by {} (base_color, metallic, roughness, eta, specular \
                  read; the rest ignored)",
-                if metallic > 0.5 { "a rough metal" } else { "a rough plastic" }
+                if metallic > 0.5 {
+                    "a rough metal"
+                } else {
+                    "a rough plastic"
+                }
             ),
         );
         if metallic > 0.5 {
