@@ -3,7 +3,9 @@
 //!
 //! LuxRender materials map to them: matte -> Lambertian (Oren-Nayar with
 //! `sigma`), mirror -> specular reflection, glass -> smooth dielectric,
-//! metal2 -> microfacet conductor, glossy -> coated glossy.
+//! roughglass -> rough dielectric, metal2 -> microfacet conductor, glossy ->
+//! coated glossy. Mitsuba's roughdielectric, thindielectric, plastic and
+//! roughplastic have BSDFs of their own.
 //! Directions point away from the surface; the dispatch here sanitises
 //! inputs (non-finite or unnormalised directions, samples outside [0, 1)) and
 //! outputs, so that no NaN or infinity escapes.
