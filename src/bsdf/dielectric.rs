@@ -20,16 +20,27 @@ pub struct Dielectric {
 const ETA_MIN: f32 = 1e-2;
 const ETA_MAX: f32 = 1e2;
 
-/// The refracted direction of `wo` through the interface with normal +z and
-/// relative index `eta` (inside / outside), with the relative index of the
-/// side `wo` is on over the other (eta if wo is outside, 1 / eta inside); None
-/// under total internal reflection. Snell's law in vector form (pbrt-v4
-/// §9.3.2, `Refract`).
-fn refract(wo: Vec3, eta: f32) -> Option<(Vec3, f32)> {
-    let (cos_i, eta, n) = if wo.z < 0.0 {
-        (-wo.z, 1.0 / eta, -Vec3::Z)
+/// A relative index clamped to [ETA_MIN, ETA_MAX]; NaN becomes 1.
+pub(super) fn clamp_eta(eta: f32) -> f32 {
+    if eta.is_nan() {
+        1.0
     } else {
-        (wo.z, eta, Vec3::Z)
+        eta.clamp(ETA_MIN, ETA_MAX)
+    }
+}
+
+/// The refracted direction of `wo` through an interface with unit normal `n`
+/// (pointing outside: +z for a smooth surface, a microfacet normal for a
+/// rough one) and relative index `eta` (inside / outside), with the relative
+/// index of the side `wo` is on over the other (eta if wo is outside, 1 / eta
+/// inside); None under total internal reflection. Snell's law in vector form
+/// (pbrt-v4 §9.3.2, `Refract`).
+pub(super) fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
+    let cos_i = wo.dot(n);
+    let (cos_i, eta, n) = if cos_i < 0.0 {
+        (-cos_i, 1.0 / eta, -n)
+    } else {
+        (cos_i, eta, n)
     };
     let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
     if sin2_t >= 1.0 {
@@ -39,20 +50,22 @@ fn refract(wo: Vec3, eta: f32) -> Option<(Vec3, f32)> {
     Some((-wo / eta + (cos_i / eta - cos_t) * n, eta))
 }
 
+/// `reflectance` and `transmittance` blended by the Fresnel reflectance at
+/// normal incidence: a grey-level albedo of any dielectric interface.
+pub(super) fn blend_by_normal_fresnel(reflectance: Vec3, transmittance: Vec3, eta: f32) -> Vec3 {
+    let r = fr_dielectric(1.0, eta);
+    reflectance * r + transmittance * (1.0 - r)
+}
+
 impl Dielectric {
     fn eta(&self) -> f32 {
-        if self.eta.is_nan() {
-            1.0
-        } else {
-            self.eta.clamp(ETA_MIN, ETA_MAX)
-        }
+        clamp_eta(self.eta)
     }
 
     /// Kr and Kt blended by the Fresnel reflectance at normal incidence,
     /// ((eta - 1) / (eta + 1))^2.
     pub fn albedo(&self) -> Vec3 {
-        let r = fr_dielectric(1.0, self.eta());
-        self.reflectance * r + self.transmittance * (1.0 - r)
+        blend_by_normal_fresnel(self.reflectance, self.transmittance, self.eta())
     }
 
     /// Picks reflection with probability R (the Fresnel reflectance for wo)
@@ -77,7 +90,7 @@ impl Dielectric {
                 delta: true,
             });
         }
-        let (wi, etap) = refract(wo, eta)?;
+        let (wi, etap) = refract(wo, Vec3::Z, eta)?;
         Some(BsdfSample {
             wi,
             f: self.transmittance * (t / (wi.z.abs() * etap * etap)),

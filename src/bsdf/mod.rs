@@ -3,7 +3,9 @@
 //!
 //! LuxRender materials map to them: matte -> Lambertian (Oren-Nayar with
 //! `sigma`), mirror -> specular reflection, glass -> smooth dielectric,
-//! metal2 -> microfacet conductor, glossy -> coated glossy.
+//! roughglass -> rough dielectric, metal2 -> microfacet conductor, glossy ->
+//! coated glossy. Mitsuba's roughdielectric, thindielectric, plastic and
+//! roughplastic have BSDFs of their own.
 //! Directions point away from the surface; the dispatch here sanitises
 //! inputs (non-finite or unnormalised directions, samples outside [0, 1)) and
 //! outputs, so that no NaN or infinity escapes.
@@ -16,7 +18,11 @@ pub mod fresnel;
 mod lambertian;
 pub mod microfacet;
 pub mod oren_nayar;
+pub mod plastic;
+pub mod rough_dielectric;
+pub mod rough_plastic;
 mod specular_reflection;
+pub mod thin_dielectric;
 
 pub use coated_glossy::CoatedGlossy;
 use conductor::Conductor;
@@ -25,7 +31,11 @@ use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
 use oren_nayar::OrenNayar;
+pub use plastic::Plastic;
+pub use rough_dielectric::RoughDielectric;
+pub use rough_plastic::RoughPlastic;
 use specular_reflection::SpecularReflection;
+pub use thin_dielectric::ThinDielectric;
 
 #[derive(Clone, Copy, Debug)]
 pub enum Bsdf {
@@ -56,6 +66,14 @@ pub enum Bsdf {
     },
     /// A diffuse base under a glossy coating (LuxRender's `glossy`).
     CoatedGlossy(CoatedGlossy),
+    /// GGX microfacet reflection and refraction (Mitsuba's `roughdielectric`).
+    RoughDielectric(RoughDielectric),
+    /// A thin sheet: mirror reflection, straight transmission (Mitsuba's `thindielectric`).
+    ThinDielectric(ThinDielectric),
+    /// A diffuse base under a smooth dielectric coating (Mitsuba's `plastic`).
+    Plastic(Plastic),
+    /// A diffuse base under a GGX dielectric coating (Mitsuba's `roughplastic`).
+    RoughPlastic(RoughPlastic),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -103,7 +121,12 @@ impl Bsdf {
             } => conductor(f0, alpha_x, alpha_y).eval(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
             Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => Vec3::ZERO,
+            Bsdf::RoughDielectric(d) => d.eval(wo, wi),
+            Bsdf::Plastic(p) => p.eval(wo, wi),
+            Bsdf::RoughPlastic(p) => p.eval(wo, wi),
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
+                Vec3::ZERO
+            }
         };
         if f.is_finite() { f } else { Vec3::ZERO }
     }
@@ -123,7 +146,12 @@ impl Bsdf {
             } => conductor(f0, alpha_x, alpha_y).pdf(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
             Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => 0.0,
+            Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
+            Bsdf::Plastic(p) => p.pdf(wo, wi),
+            Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
+                0.0
+            }
         };
         if pdf.is_finite() && pdf > 0.0 {
             pdf
@@ -159,6 +187,10 @@ impl Bsdf {
             } => conductor(f0, alpha_x, alpha_y).sample(wo, u),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
             Bsdf::CoatedGlossy(c) => c.sample(wo, u),
+            Bsdf::RoughDielectric(d) => d.sample(wo, u, canonical(uc)),
+            Bsdf::ThinDielectric(t) => t.sample(wo, canonical(uc)),
+            Bsdf::Plastic(p) => p.sample(wo, u, canonical(uc)),
+            Bsdf::RoughPlastic(p) => p.sample(wo, u, canonical(uc)),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -168,8 +200,14 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. }
+            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_)
         )
+    }
+
+    /// True for an interface between an inside and an outside, whose lobes depend on the side
+    /// `wo` is on: the shading normal must not be turned towards the viewer.
+    pub fn has_inside(&self) -> bool {
+        matches!(self, Bsdf::Dielectric { .. } | Bsdf::RoughDielectric(_))
     }
 
     /// A grey-level estimate of reflectance, for Russian roulette and for the
@@ -193,6 +231,10 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, .. } => reflectance,
             // The coating reflects about Ks; the base shows through the rest.
             Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,
+            Bsdf::RoughDielectric(d) => d.albedo(),
+            Bsdf::ThinDielectric(t) => t.albedo(),
+            Bsdf::Plastic(p) => p.albedo(),
+            Bsdf::RoughPlastic(p) => p.albedo(),
         }
     }
 }

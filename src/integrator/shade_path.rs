@@ -82,11 +82,12 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
                 .sample(surface.position, u_light)
                 .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
                 .and_then(|sample| {
-                    // Light below the true surface would leak through it.
-                    if sample.wi.dot(surface.geometric_normal) <= 0.0 {
+                    // Light on the other side of the true surface than the shading frame
+                    // puts it would leak through it.
+                    let wi_local = frame.to_local(sample.wi);
+                    if sample.wi.dot(surface.geometric_normal) * wi_local.z <= 0.0 {
                         return None;
                     }
-                    let wi_local = frame.to_local(sample.wi);
                     let f = bsdf.eval(wo_local, wi_local) * wi_local.z.abs();
                     if f == Vec3::ZERO {
                         return None;
@@ -111,8 +112,10 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         Some(sample) if sample.pdf > 0.0 => {
             let wi = frame.to_world(sample.wi);
             let reflects = sample.wi.z * wo_local.z > 0.0;
-            // A reflection the shading normal allows but the true surface does not.
-            if !sample.delta && reflects && wi.dot(surface.geometric_normal) <= 0.0 {
+            // A reflection (or refraction) the shading normal allows but the true surface
+            // does not.
+            let stays = wi.dot(surface.geometric_normal) * wo.dot(surface.geometric_normal) > 0.0;
+            if !sample.delta && reflects != stays {
                 *path.alive = false;
                 return shadow;
             }

@@ -245,8 +245,7 @@ impl ShadowRay {
 /// Turns the surface's normals to face `wo` when the BSDF only reflects, so one-sided meshes
 /// shade the same from both sides; a dielectric keeps them, as their side tells in from out.
 pub fn face_forward(surface: &mut SurfacePoint, bsdf: &Bsdf, wo: Vec3) {
-    let transmits = matches!(bsdf, Bsdf::Dielectric { .. });
-    if !transmits && surface.geometric_normal.dot(wo) < 0.0 {
+    if !bsdf.has_inside() && surface.geometric_normal.dot(wo) < 0.0 {
         surface.geometric_normal = -surface.geometric_normal;
         surface.shading_normal = -surface.shading_normal;
     }

@@ -6,7 +6,9 @@ pub mod texture;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use crate::bsdf::{Bsdf, CoatedGlossy};
+use crate::bsdf::microfacet::TrowbridgeReitz;
+use crate::bsdf::rough_plastic::CoatingTables;
+use crate::bsdf::{Bsdf, CoatedGlossy, Plastic, RoughDielectric, RoughPlastic, ThinDielectric};
 use crate::texture::ShadingPoint;
 use texture::TextureTable;
 
@@ -54,6 +56,38 @@ pub enum Material {
         alpha_x: f32,
         alpha_y: f32,
     },
+    /// GGX reflection and refraction; `eta` = index inside / index outside.
+    RoughDielectric {
+        reflectance: Color,
+        transmittance: Color,
+        eta: f32,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
+    /// A thin sheet of relative index `eta`.
+    ThinDielectric {
+        reflectance: Color,
+        transmittance: Color,
+        eta: f32,
+    },
+    /// A diffuse base under a smooth coating of relative index `eta`; `internal_reflectance`
+    /// from `bsdf::plastic::internal_reflectance`.
+    Plastic {
+        diffuse: Color,
+        specular: Color,
+        eta: f32,
+        internal_reflectance: f32,
+        nonlinear: bool,
+    },
+    /// A diffuse base under a GGX coating of roughness `alpha` and relative index `eta`.
+    RoughPlastic {
+        diffuse: Color,
+        specular: Color,
+        eta: f32,
+        alpha: f32,
+        nonlinear: bool,
+        tables: &'static CoatingTables,
+    },
     /// Rays pass through.
     Null,
     /// `amount` of material `second`, `1 - amount` of `first`.
@@ -89,6 +123,22 @@ impl MaterialTable {
                     ..
                 } => &[reflectance, transmittance],
                 Material::Conductor { f0, .. } => &[f0],
+                Material::RoughDielectric {
+                    reflectance,
+                    transmittance,
+                    ..
+                }
+                | Material::ThinDielectric {
+                    reflectance,
+                    transmittance,
+                    ..
+                } => &[reflectance, transmittance],
+                Material::Plastic {
+                    diffuse, specular, ..
+                }
+                | Material::RoughPlastic {
+                    diffuse, specular, ..
+                } => &[diffuse, specular],
                 Material::Null | Material::Mix { .. } => &[],
             };
             inputs.iter().any(|c| matches!(c, Color::Texture(_)))
@@ -160,6 +210,55 @@ impl MaterialTable {
                     alpha_x: *alpha_x,
                     alpha_y: *alpha_y,
                 }),
+                Material::RoughDielectric {
+                    reflectance,
+                    transmittance,
+                    eta,
+                    alpha_x,
+                    alpha_y,
+                } => Some(Bsdf::RoughDielectric(RoughDielectric {
+                    reflectance: color(reflectance),
+                    transmittance: color(transmittance),
+                    eta: *eta,
+                    distribution: TrowbridgeReitz::new(*alpha_x, *alpha_y),
+                })),
+                Material::ThinDielectric {
+                    reflectance,
+                    transmittance,
+                    eta,
+                } => Some(Bsdf::ThinDielectric(ThinDielectric {
+                    reflectance: color(reflectance),
+                    transmittance: color(transmittance),
+                    eta: *eta,
+                })),
+                Material::Plastic {
+                    diffuse,
+                    specular,
+                    eta,
+                    internal_reflectance,
+                    nonlinear,
+                } => Some(Bsdf::Plastic(Plastic {
+                    diffuse: color(diffuse),
+                    specular: color(specular),
+                    eta: *eta,
+                    internal_reflectance: *internal_reflectance,
+                    nonlinear: *nonlinear,
+                })),
+                Material::RoughPlastic {
+                    diffuse,
+                    specular,
+                    eta,
+                    alpha,
+                    nonlinear,
+                    tables,
+                } => Some(Bsdf::RoughPlastic(RoughPlastic {
+                    diffuse: color(diffuse),
+                    specular: color(specular),
+                    eta: *eta,
+                    distribution: TrowbridgeReitz::new(*alpha, *alpha),
+                    nonlinear: *nonlinear,
+                    tables,
+                })),
                 Material::Null => None,
                 Material::Mix {
                     first,

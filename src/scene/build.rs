@@ -7,7 +7,10 @@ use glam::{Affine3A, Mat3, Vec3};
 use super::desc::{
     ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ToneMap,
 };
+use crate::bsdf::microfacet::clamp_alpha;
 use crate::bsdf::oren_nayar::oren_nayar_ab;
+use crate::bsdf::plastic::internal_reflectance;
+use crate::bsdf::rough_plastic::CoatingTables;
 use crate::camera::fisheye::FisheyeFit;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, CameraSetup, CameraType, default_screen_window};
@@ -337,6 +340,55 @@ fn material(desc: &MaterialDesc) -> Material {
             f0: color(specular),
             alpha_x: *alpha_u,
             alpha_y: *alpha_v,
+        },
+        MaterialDesc::RoughDielectric {
+            reflectance,
+            transmittance,
+            ior,
+            alpha_u,
+            alpha_v,
+        } => Material::RoughDielectric {
+            reflectance: color(reflectance),
+            transmittance: color(transmittance),
+            eta: *ior,
+            alpha_x: *alpha_u,
+            alpha_y: *alpha_v,
+        },
+        MaterialDesc::ThinDielectric {
+            reflectance,
+            transmittance,
+            ior,
+        } => Material::ThinDielectric {
+            reflectance: color(reflectance),
+            transmittance: color(transmittance),
+            eta: *ior,
+        },
+        MaterialDesc::Plastic {
+            diffuse,
+            specular,
+            ior,
+            alpha: None,
+            nonlinear,
+        } => Material::Plastic {
+            diffuse: color(diffuse),
+            specular: color(specular),
+            eta: *ior,
+            internal_reflectance: internal_reflectance(*ior),
+            nonlinear: *nonlinear,
+        },
+        MaterialDesc::Plastic {
+            diffuse,
+            specular,
+            ior,
+            alpha: Some(alpha),
+            nonlinear,
+        } => Material::RoughPlastic {
+            diffuse: color(diffuse),
+            specular: color(specular),
+            eta: *ior,
+            alpha: *alpha,
+            nonlinear: *nonlinear,
+            tables: CoatingTables::of(clamp_alpha(*alpha), *ior),
         },
         MaterialDesc::Null => Material::Null,
         MaterialDesc::Mix {

@@ -282,6 +282,32 @@ pub enum MaterialDesc {
         alpha_u: f32,
         alpha_v: f32,
     },
+    /// A GGX microfacet dielectric interface (Walter et al. 2007): `ior` inside over outside,
+    /// `alpha_u`, `alpha_v` the roughness along u and v.
+    RoughDielectric {
+        reflectance: ColorParam,
+        transmittance: ColorParam,
+        ior: f32,
+        alpha_u: f32,
+        alpha_v: f32,
+    },
+    /// A thin dielectric sheet of index `ior` (relative to its surroundings): mirror reflection
+    /// and straight transmission, interreflections summed.
+    ThinDielectric {
+        reflectance: ColorParam,
+        transmittance: ColorParam,
+        ior: f32,
+    },
+    /// A diffuse base under a dielectric coating of index `ior` (relative to outside), smooth
+    /// for `alpha` None, else GGX of that alpha; `nonlinear`: the base's interreflections
+    /// tint it (Kd / (1 - Fdr Kd)) rather than only brighten it (Kd / (1 - Fdr)).
+    Plastic {
+        diffuse: ColorParam,
+        specular: ColorParam,
+        ior: f32,
+        alpha: Option<f32>,
+        nonlinear: bool,
+    },
     /// Invisible: rays pass through (for light emitters).
     Null,
     /// `amount` of `second`, `1 - amount` of `first`.

@@ -14,7 +14,7 @@ use crate::texture::{Mapping2D, TextureNode};
 /// LuxRender's default diffuse grey, also what unknown materials become.
 const GREY: Vec3 = Vec3::splat(0.5);
 
-/// metal2's `uroughness`/`vroughness` as GGX alpha.
+/// metal2's (and roughglass's) `uroughness`/`vroughness` as GGX alpha.
 ///
 /// LuxRender 1.x's metal2 (`materials/metal2.cpp`, LuxRender/Lux on GitHub) builds
 /// `SchlickDistribution(u * v, anisotropy)`, and
@@ -85,6 +85,21 @@ impl Parser {
                 transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
                 ior: self.constant_float(params, "index", 1.5, line)?,
             },
+            // `materials/roughglass.cpp` (LuxRender 1.x): Kr, Kt 1, index 1.5, uroughness and
+            // vroughness 0.001 clamped to [6e-3, 1], the same Schlick distribution of r = u v
+            // as metal2, so the same GGX alphas. (`cauchyb`, dispersion: not modelled.)
+            "roughglass" => {
+                let clamp = |r: f32| metal2_alpha(r.clamp(6e-3, 1.0));
+                let u = self.constant_float(params, "uroughness", 0.001, line)?;
+                let v = self.constant_float(params, "vroughness", 0.001, line)?;
+                MaterialDesc::RoughDielectric {
+                    reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
+                    transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
+                    ior: self.constant_float(params, "index", 1.5, line)?,
+                    alpha_u: clamp(u),
+                    alpha_v: clamp(v),
+                }
+            }
             "metal2" => {
                 let kr = self.color_param(params, "Kr", Vec3::ONE, line)?;
                 // The course's `roughness` sets both, unless LuxRender's own are given.

@@ -1,8 +1,8 @@
 //! Mitsuba BSDFs and textures as foton materials and image textures. Exact: `diffuse` (seen from
-//! the front), `twosided`, `dielectric`, `conductor` with material `none`, `roughconductor` (GGX,
-//! material `none`), `null`, `checkerboard`, `bitmap`. Approximated with a warning: named
-//! conductors (Fresnel at normal incidence), `plastic`, `roughplastic`, `principled`,
-//! `roughdielectric`, `thindielectric`, and Beckmann roughness.
+//! the front), `twosided`, `dielectric`, `roughdielectric` (GGX), `thindielectric`, `plastic`,
+//! `roughplastic` (GGX), `conductor` with material `none`, `roughconductor` (GGX, material
+//! `none`), `null`, `checkerboard`, `bitmap`. Approximated with a warning: named conductors
+//! (Fresnel at normal incidence), `principled`, and Beckmann roughness.
 
 use std::sync::Arc;
 
@@ -242,23 +242,30 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
         "dielectric" | "roughdielectric" | "thindielectric" => {
             let int = ior(cx, object, "int_ior", 1.5046);
             let ext = ior(cx, object, "ext_ior", 1.000277);
+            let reflectance = cx.color(object, "specular_reflectance", Vec3::ONE);
+            let transmittance = cx.color(object, "specular_transmittance", Vec3::ONE);
+            let ior = int / ext;
             match object.plugin.as_str() {
                 "roughdielectric" => {
-                    let (a, _) = alphas(cx, object);
-                    cx.warn(&loc, format!("roughdielectric rendered smooth (alpha {a} ignored)"));
+                    let (alpha_u, alpha_v) = alphas(cx, object);
+                    MaterialDesc::RoughDielectric {
+                        reflectance,
+                        transmittance,
+                        ior,
+                        alpha_u,
+                        alpha_v,
+                    }
                 }
-                "thindielectric" => cx.warn(
-                    &loc,
-                    "thindielectric approximated by a dielectric (rays bend where a thin sheet would \
-                     not)"
-                        .into(),
-                ),
-                _ => {}
-            }
-            MaterialDesc::Dielectric {
-                reflectance: cx.color(object, "specular_reflectance", Vec3::ONE),
-                transmittance: cx.color(object, "specular_transmittance", Vec3::ONE),
-                ior: int / ext,
+                "thindielectric" => MaterialDesc::ThinDielectric {
+                    reflectance,
+                    transmittance,
+                    ior,
+                },
+                _ => MaterialDesc::Dielectric {
+                    reflectance,
+                    transmittance,
+                    ior,
+                },
             }
         }
         "conductor" | "roughconductor" => {
@@ -291,12 +298,11 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
     }))
 }
 
-/// Plastic (a diffuse base under a dielectric coat) as a mix of the base and a specular coat,
-/// weighted by the coat's Fresnel reflectance averaged over the cosine-weighted hemisphere.
-/// `principled` goes to a rough metal when mostly metallic, else to this.
+/// `plastic` and `roughplastic` (a diffuse base under a dielectric coating, exact), and
+/// `principled`, approximated with a warning: a rough metal when mostly metallic, else a rough
+/// plastic of its base colour, roughness and index.
 fn plastic(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError> {
     let loc = object.loc.clone();
-    let rough = object.plugin != "plastic";
     if object.plugin == "principled" {
         let base = cx.color(object, "base_color", Vec3::splat(0.5));
         let metallic = cx.float(object, "metallic", 0.0);
@@ -305,67 +311,63 @@ fn plastic(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneError
         cx.warn(
             &loc,
             format!(
-                "principled approximated by {} (base_color, metallic, roughness read; the rest ignored)",
-                if metallic > 0.5 { "a rough metal" } else { "a rough plastic" }
+                "principled approximated by {} (base_color, metallic, roughness, eta, specular \
+                 read; the rest ignored)",
+                if metallic > 0.5 {
+                    "a rough metal"
+                } else {
+                    "a rough plastic"
+                }
             ),
         );
         if metallic > 0.5 {
             return Ok(push(cx, metal(base, (alpha, alpha))));
         }
-        let eta = cx.float(object, "eta", 1.5);
-        let base = push(cx, MaterialDesc::Diffuse { reflectance: base });
-        let coat = push(cx, metal(ColorParam::Constant(Vec3::ONE), (alpha, alpha)));
-        return Ok(push(cx, mix(base, coat, eta)));
+        // Mitsuba's principled: eta from `specular` when `eta` is not given,
+        // specular = ((eta - 1) / (eta + 1))^2 / 0.08.
+        let specular = cx.float(object, "specular", 0.5);
+        let from_specular = 2.0 / (1.0 - (0.08 * specular).clamp(0.0, 0.99).sqrt()) - 1.0;
+        let eta = cx.float(object, "eta", from_specular);
+        return Ok(push(
+            cx,
+            MaterialDesc::Plastic {
+                diffuse: base,
+                specular: ColorParam::Constant(Vec3::ONE),
+                ior: eta,
+                alpha: Some(alpha),
+                nonlinear: false,
+            },
+        ));
     }
     let int = ior(cx, object, "int_ior", 1.49);
     let ext = ior(cx, object, "ext_ior", 1.000277);
     let diffuse = cx.color(object, "diffuse_reflectance", Vec3::splat(0.5));
     let specular = cx.color(object, "specular_reflectance", Vec3::ONE);
-    object.prop("nonlinear");
-    let coat = if rough {
-        let (a, b) = alphas(cx, object);
-        metal(specular, (a, b))
-    } else {
-        MaterialDesc::Mirror {
-            reflectance: specular,
+    let nonlinear = cx.bool(object, "nonlinear", false);
+    let alpha = (object.plugin == "roughplastic").then(|| {
+        let (u, v) = alphas(cx, object);
+        if u != v {
+            cx.warn(
+                &loc,
+                format!(
+                    "roughplastic is isotropic (Mitsuba refuses alpha_u != alpha_v): alpha \
+                     {} used",
+                    (u * v).sqrt()
+                ),
+            );
         }
-    };
-    cx.warn(
-        &loc,
-        format!(
-            "{} approximated by a mix of its diffuse base and a {} coat (no internal reflections)",
-            object.plugin,
-            if rough { "rough" } else { "mirror" }
-        ),
-    );
-    let base = push(
+        (u * v).sqrt()
+    });
+    Ok(push(
         cx,
-        MaterialDesc::Diffuse {
-            reflectance: diffuse,
+        MaterialDesc::Plastic {
+            diffuse,
+            specular,
+            ior: int / ext,
+            alpha,
+            nonlinear,
         },
-    );
-    let coat = push(cx, coat);
-    Ok(push(cx, mix(base, coat, int / ext)))
-}
-
-fn mix(base: MaterialId, coat: MaterialId, eta: f32) -> MaterialDesc {
-    MaterialDesc::Mix {
-        first: base,
-        second: coat,
-        amount: average_fresnel(eta),
-    }
-}
-
-/// 2 ∫ F(cos θ) cos θ sin θ dθ over the hemisphere: the share of cosine-weighted incident light a
-/// smooth dielectric of relative index `eta` reflects (midpoint rule, 256 steps).
-fn average_fresnel(eta: f32) -> f32 {
-    let n = 256;
-    (0..n)
-        .map(|i| {
-            let cos_i = (i as f32 + 0.5) / n as f32;
-            2.0 * crate::bsdf::fresnel::fr_dielectric(cos_i, eta) * cos_i / n as f32
-        })
-        .sum()
+    ))
 }
 
 /// The texture-graph node of texture `object` (converted once).
@@ -463,16 +465,5 @@ mod tests {
         assert!((f.x - 0.04).abs() < 1e-6);
         // A perfect conductor (k -> inf) reflects everything.
         assert!(conductor_f0(Vec3::ONE, Vec3::splat(1e4)).min_element() > 0.9999);
-    }
-
-    #[test]
-    fn average_fresnel_of_glass() {
-        // A known value: about 9.2 % for n = 1.5 (hemispherical-average Fresnel reflectance).
-        assert!(
-            (average_fresnel(1.5) - 0.092).abs() < 0.003,
-            "{}",
-            average_fresnel(1.5)
-        );
-        assert!(average_fresnel(1.0) < 1e-6);
     }
 }
