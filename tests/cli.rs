@@ -645,15 +645,27 @@ fn clamp_limits_every_sample_and_must_match_on_resume() {
     }
     let limit = 0.05;
     let plain = render_exr(&dir.join("plain.exr"), &["--film", "fis"]);
-    let clamped = render_exr(&dir.join("clamped.exr"), &["--film", "fis", "--clamp", "0.05"]);
+    let clamped = render_exr(
+        &dir.join("clamped.exr"),
+        &["--film", "fis", "--clamp", "0.05"],
+    );
     let brightest = plain.iter().map(|p| p.max_element()).fold(0.0, f32::max);
-    assert!(brightest > 2.0 * limit, "the clamp bites nowhere: {brightest}");
+    assert!(
+        brightest > 2.0 * limit,
+        "the clamp bites nowhere: {brightest}"
+    );
     for (p, c) in plain.iter().zip(&clamped) {
         assert!(c.max_element() <= limit * (1.0 + 1e-6), "{c} above {limit}");
         assert!(c.cmple(*p * (1.0 + 1e-6)).all(), "{c} brighter than {p}");
     }
-    let loose = render_exr(&dir.join("loose.exr"), &["--film", "fis", "--clamp", "1e30"]);
-    assert!(loose == plain, "a clamp above every sample changed the image");
+    let loose = render_exr(
+        &dir.join("loose.exr"),
+        &["--film", "fis", "--clamp", "1e30"],
+    );
+    assert!(
+        loose == plain,
+        "a clamp above every sample changed the image"
+    );
 
     let part = dir.join("part.exr");
     let args = ["--film", "fis", "--clamp", "0.05"];
@@ -670,12 +682,18 @@ fn clamp_limits_every_sample_and_must_match_on_resume() {
         .concat(),
     );
     assert_eq!(code(&output), Some(2), "{}", stderr(&output));
-    assert!(stderr(&output).contains("--clamp 0.05"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("--clamp 0.05"),
+        "{}",
+        stderr(&output)
+    );
     let resumed = render_exr(&dir.join("resumed.exr"), &[&args[..], &resume].concat());
     assert!(resumed == clamped, "a resumed clamped render differs");
 
     let scene = project_scene_static();
-    let bench = ["bench", scene, "--clamp", "0.5", "--repeat", "1", "--spp", "1"];
+    let bench = [
+        "bench", scene, "--clamp", "0.5", "--repeat", "1", "--spp", "1",
+    ];
     let output = foton(&[&bench[..], &["--resolution", "8x8"]].concat());
     assert!(output.status.success(), "{}", stderr(&output));
 }

@@ -95,8 +95,16 @@ pub fn read_checkpoint(path: &Path) -> Result<(Film, CheckpointInfo), String> {
         weights.push(f(24));
         counts.push(u64::from_le_bytes(p[32..40].try_into().unwrap_or_default()));
     }
-    let film = Film::from_parts(width, height, sums, weights, counts, rejected, max_component)
-        .ok_or_else(|| bad("film size"))?;
+    let film = Film::from_parts(
+        width,
+        height,
+        sums,
+        weights,
+        counts,
+        rejected,
+        max_component,
+    )
+    .ok_or_else(|| bad("film size"))?;
     Ok((
         film,
         CheckpointInfo {
