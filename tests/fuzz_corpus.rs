@@ -62,41 +62,37 @@ fn xml_corpus_replays_without_panics() {
     replay_scenes("xml", "scene.xml", mitsuba::load);
 }
 
-#[test]
-fn ply_corpus_replays_without_panics() {
-    let inputs = inputs("ply");
-    assert!(!inputs.is_empty(), "fuzz/corpus/ply is empty");
+/// Replays a reader fuzzer's inputs as its target does: `read` on each input's bytes.
+fn replay_bytes(target: &str, read: impl Fn(&[u8]) + std::panic::RefUnwindSafe) {
+    let inputs = inputs(target);
+    assert!(!inputs.is_empty(), "fuzz/corpus/{target} is empty");
     for (path, bytes) in inputs {
-        let replay = std::panic::catch_unwind(|| ply::parse(&mut &bytes[..]));
+        let replay = std::panic::catch_unwind(|| read(&bytes));
         assert!(replay.is_ok(), "{} panics", path.display());
     }
+}
+
+#[test]
+fn ply_corpus_replays_without_panics() {
+    replay_bytes("ply", |bytes| {
+        let _ = ply::parse(&mut &bytes[..]);
+    });
 }
 
 #[test]
 fn obj_corpus_replays_without_panics() {
-    let inputs = inputs("obj");
-    assert!(!inputs.is_empty(), "fuzz/corpus/obj is empty");
-    for (path, bytes) in inputs {
-        let replay = std::panic::catch_unwind(|| {
-            if let Ok(text) = std::str::from_utf8(&bytes) {
-                let _ = obj::parse_obj(text, Path::new("fuzz.obj"));
-            }
-        });
-        assert!(replay.is_ok(), "{} panics", path.display());
-    }
+    replay_bytes("obj", |bytes| {
+        if let Ok(text) = std::str::from_utf8(bytes) {
+            let _ = obj::parse_obj(text, Path::new("fuzz.obj"));
+        }
+    });
 }
 
 #[test]
 fn serialized_corpus_replays_without_panics() {
-    let inputs = inputs("serialized");
-    assert!(!inputs.is_empty(), "fuzz/corpus/serialized is empty");
-    for (path, bytes) in inputs {
-        let replay = std::panic::catch_unwind(|| {
-            for shape_index in [0, 1] {
-                let _ =
-                    serialized::parse_serialized(&bytes, shape_index, Path::new("fuzz.serialized"));
-            }
-        });
-        assert!(replay.is_ok(), "{} panics", path.display());
-    }
+    replay_bytes("serialized", |bytes| {
+        for shape_index in [0, 1] {
+            let _ = serialized::parse_serialized(bytes, shape_index, Path::new("fuzz.serialized"));
+        }
+    });
 }
