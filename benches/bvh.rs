@@ -123,7 +123,7 @@ fn bench(c: &mut Criterion) {
     });
     let mut occluded = vec![false; RAYS];
     group.bench_function("any_hits_batch", |b| {
-        b.iter(|| accel.any_hits(&origins, &dirs, 0.0, &t_maxs, &mut occluded))
+        b.iter(|| accel.any_hits(&origins, &dirs, 0.0, &t_maxs, None, &mut occluded))
     });
     group.finish();
     let s = accel.stats();

@@ -651,7 +651,7 @@ fn batch_entry_points_match_single_rays() {
     let mut hits = vec![None; rays.len()];
     let mut occluded = vec![true; rays.len()];
     accel.closest_hits(&origins, &dirs, 1e-3, &t_maxs, &mut hits);
-    accel.any_hits(&origins, &dirs, 1e-3, &t_maxs, &mut occluded);
+    accel.any_hits(&origins, &dirs, 1e-3, &t_maxs, None, &mut occluded);
     for i in 0..rays.len() {
         assert_eq!(
             hits[i],

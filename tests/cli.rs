@@ -746,4 +746,71 @@ fn compare_measures_error_and_converge_charts_it() {
     )
     .unwrap();
     assert_eq!(code(&foton(&["chart", bad.to_str().unwrap()])), Some(1));
+
+/// `--clamp V` scales each sample down to a largest component of V before the film: with
+/// filter importance sampling a pixel is the plain mean of its samples, so no pixel exceeds V
+/// and none is brighter than without the clamp (the same seed gives the same samples); a clamp
+/// above every sample changes nothing. A checkpoint remembers the clamp: resuming it without
+/// the same `--clamp` is refused, with it gives the uninterrupted clamped image. Zero, negative
+/// and non-numbers are refused; `bench` takes the option too.
+#[test]
+fn clamp_limits_every_sample_and_must_match_on_resume() {
+    let dir = temp_dir("clamp");
+    for bad in ["0", "-1", "nan"] {
+        let output = foton(&["render", project_scene_static(), "--clamp", bad]);
+        assert_eq!(code(&output), Some(2), "{bad}: {}", stderr(&output));
+    }
+    let limit = 0.05;
+    let plain = render_exr(&dir.join("plain.exr"), &["--film", "fis"]);
+    let clamped = render_exr(
+        &dir.join("clamped.exr"),
+        &["--film", "fis", "--clamp", "0.05"],
+    );
+    let brightest = plain.iter().map(|p| p.max_element()).fold(0.0, f32::max);
+    assert!(
+        brightest > 2.0 * limit,
+        "the clamp bites nowhere: {brightest}"
+    );
+    for (p, c) in plain.iter().zip(&clamped) {
+        assert!(c.max_element() <= limit * (1.0 + 1e-6), "{c} above {limit}");
+        assert!(c.cmple(*p * (1.0 + 1e-6)).all(), "{c} brighter than {p}");
+    }
+    let loose = render_exr(
+        &dir.join("loose.exr"),
+        &["--film", "fis", "--clamp", "1e30"],
+    );
+    assert!(
+        loose == plain,
+        "a clamp above every sample changed the image"
+    );
+
+    let part = dir.join("part.exr");
+    let args = ["--film", "fis", "--clamp", "0.05"];
+    let stopped = [&args[..], &["--time-limit", "0", "--checkpoint", "1000"]].concat();
+    render_exr(&part, &stopped);
+    let checkpoint = dir.join("part.exr.checkpoint");
+    let resume = ["--resume", checkpoint.to_str().unwrap()];
+    let output = foton(
+        &[
+            &["render", project_scene_static(), "--resolution", "24x16"][..],
+            &["--seed", "7", "--film", "fis"],
+            &resume,
+        ]
+        .concat(),
+    );
+    assert_eq!(code(&output), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("--clamp 0.05"),
+        "{}",
+        stderr(&output)
+    );
+    let resumed = render_exr(&dir.join("resumed.exr"), &[&args[..], &resume].concat());
+    assert!(resumed == clamped, "a resumed clamped render differs");
+
+    let scene = project_scene_static();
+    let bench = [
+        "bench", scene, "--clamp", "0.5", "--repeat", "1", "--spp", "1",
+    ];
+    let output = foton(&[&bench[..], &["--resolution", "8x8"]].concat());
+    assert!(output.status.success(), "{}", stderr(&output));
 }

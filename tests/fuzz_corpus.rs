@@ -5,8 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use foton::scene::build::{RenderOptions, build_world};
-use foton::scene::io::ply;
-use foton::scene::lxs;
+use foton::scene::desc::{SceneDesc, SceneError};
+use foton::scene::io::{obj, ply, serialized};
+use foton::scene::{lxs, mitsuba};
 
 /// The inputs of one fuzz target, with their paths.
 fn inputs(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
@@ -26,17 +27,19 @@ fn inputs(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
     found
 }
 
-#[test]
-fn lxs_corpus_replays_without_panics() {
-    let inputs = inputs("lxs");
-    assert!(!inputs.is_empty(), "fuzz/corpus/lxs is empty");
-    let dir = std::env::temp_dir().join(format!("foton-fuzz-replay-{}", std::process::id()));
+/// Replays a scene fuzzer's inputs as its target does: each written to a scene file named
+/// `file_name` in a scratch folder, loaded by `load`, and built at 4x4 if it loads.
+fn replay_scenes(target: &str, file_name: &str, load: fn(&Path) -> Result<SceneDesc, SceneError>) {
+    let inputs = inputs(target);
+    assert!(!inputs.is_empty(), "fuzz/corpus/{target} is empty");
+    let dir =
+        std::env::temp_dir().join(format!("foton-fuzz-replay-{target}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a scratch folder");
-    let scene = dir.join("scene.lxs");
+    let scene = dir.join(file_name);
     for (path, bytes) in inputs {
         std::fs::write(&scene, &bytes).expect("the scratch file");
         let replay = std::panic::catch_unwind(|| {
-            if let Ok(desc) = lxs::load(&scene) {
+            if let Ok(desc) = load(&scene) {
                 let options = RenderOptions {
                     resolution: Some((4, 4)),
                     samples_per_pixel: Some(1),
@@ -50,11 +53,46 @@ fn lxs_corpus_replays_without_panics() {
 }
 
 #[test]
-fn ply_corpus_replays_without_panics() {
-    let inputs = inputs("ply");
-    assert!(!inputs.is_empty(), "fuzz/corpus/ply is empty");
+fn lxs_corpus_replays_without_panics() {
+    replay_scenes("lxs", "scene.lxs", lxs::load);
+}
+
+#[test]
+fn xml_corpus_replays_without_panics() {
+    replay_scenes("xml", "scene.xml", mitsuba::load);
+}
+
+/// Replays a reader fuzzer's inputs as its target does: `read` on each input's bytes.
+fn replay_bytes(target: &str, read: impl Fn(&[u8]) + std::panic::RefUnwindSafe) {
+    let inputs = inputs(target);
+    assert!(!inputs.is_empty(), "fuzz/corpus/{target} is empty");
     for (path, bytes) in inputs {
-        let replay = std::panic::catch_unwind(|| ply::parse(&mut &bytes[..]));
+        let replay = std::panic::catch_unwind(|| read(&bytes));
         assert!(replay.is_ok(), "{} panics", path.display());
     }
+}
+
+#[test]
+fn ply_corpus_replays_without_panics() {
+    replay_bytes("ply", |bytes| {
+        let _ = ply::parse(&mut &bytes[..]);
+    });
+}
+
+#[test]
+fn obj_corpus_replays_without_panics() {
+    replay_bytes("obj", |bytes| {
+        if let Ok(text) = std::str::from_utf8(bytes) {
+            let _ = obj::parse_obj(text, Path::new("fuzz.obj"));
+        }
+    });
+}
+
+#[test]
+fn serialized_corpus_replays_without_panics() {
+    replay_bytes("serialized", |bytes| {
+        for shape_index in [0, 1] {
+            let _ = serialized::parse_serialized(bytes, shape_index, Path::new("fuzz.serialized"));
+        }
+    });
 }

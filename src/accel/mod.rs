@@ -17,6 +17,7 @@ mod blas;
 mod bvh;
 mod instances;
 mod memory;
+mod pass_through;
 mod plane;
 mod primitive;
 mod sphere;
@@ -30,6 +31,7 @@ use rayon::prelude::*;
 use blas::Blas;
 use bvh::{Ray, Shape};
 use instances::Instances;
+pub use pass_through::PassThrough;
 use plane::Plane;
 pub use primitive::{PrimitiveIds, PrimitiveRef};
 
@@ -243,14 +245,16 @@ impl Accel {
             });
     }
 
-    /// occluded[i] = any_hit(...); entries with t_maxs[i] <= t_min are skipped and set false.
-    /// Only the first `min` of the slices' lengths entries are computed.
+    /// occluded[i] = any_hit(...), or `any_opaque_hit` past the primitives of `pass_through`;
+    /// entries with t_maxs[i] <= t_min are skipped and set false. Only the first `min` of the
+    /// slices' lengths entries are computed.
     pub fn any_hits(
         &self,
         origins: &[Vec3],
         dirs: &[Vec3],
         t_min: f32,
         t_maxs: &[f32],
+        pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
         (occluded.par_chunks_mut(BATCH_CHUNK))
@@ -262,7 +266,10 @@ impl Accel {
                     occluded.iter_mut().zip(origins).zip(dirs).zip(t_maxs)
                 {
                     // `any_hit` returns false for an empty range (t_max <= t_min) before any work.
-                    *occ = self.any_hit(o, d, t_min, t_max);
+                    *occ = match pass_through {
+                        None => self.any_hit(o, d, t_min, t_max),
+                        Some(pass) => self.any_opaque_hit(o, d, t_min, t_max, pass),
+                    };
                 }
             });
     }

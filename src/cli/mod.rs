@@ -177,6 +177,10 @@ pub struct SceneArgs {
     /// Pixel reconstruction: filter importance sampling or splatting (default: the measured best).
     #[arg(long, value_enum)]
     pub film: Option<FilmArg>,
+    /// Scale down each sample whose largest RGB component exceeds V to V, against fireflies.
+    /// Biased: the energy above V is lost (a darker image where rare bright paths matter).
+    #[arg(long, value_name = "V", value_parser = parse_positive)]
+    pub clamp: Option<f32>,
     /// List what was built: entities, resources, BVH statistics, systems.
     #[arg(long, short)]
     pub verbose: bool,
@@ -320,6 +324,7 @@ impl SceneArgs {
                 FitArg::Circle => FisheyeFit::Circle,
             },
             pixels: None,
+            clamp: self.clamp,
         }
     }
 }

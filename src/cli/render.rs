@@ -553,6 +553,13 @@ fn check_resume(
         ))
     } else if info.pixel_set != pixel_set {
         Some("it was rendered with another --crop or --pixel".to_string())
+    } else if film.max_component() != args.scene.clamp {
+        let clamp = |c: Option<f32>| c.map_or("no --clamp".to_string(), |v| format!("--clamp {v}"));
+        Some(format!(
+            "it was rendered with {}, this render has {}",
+            clamp(film.max_component()),
+            clamp(args.scene.clamp)
+        ))
     } else {
         None
     };

@@ -1,9 +1,9 @@
 //! Checkpoints: the film's sums and counts after whole passes, so that a render can go on later
 //! to the same image an uninterrupted render gives (`foton render --resume`).
 //!
-//! The file is little-endian binary: the magic `FOTONCK2`; width, height and completed passes
+//! The file is little-endian binary: the magic `FOTONCK3`; width, height and completed passes
 //! (u32); the seed and a hash of the rendered pixel set (u64); the rejected-sample count (u64);
-//! then per pixel the three f64 weighted sums, the f64 weight sum and the u64 count. Written atomically (temporary, rename).
+//! the film's sample clamp (f64, 0 for none: a resumed render must clamp alike); then per pixel the three f64 weighted sums, the f64 weight sum and the u64 count. Written atomically (temporary, rename).
 
 use std::fs;
 use std::io::Write;
@@ -14,8 +14,8 @@ use glam::DVec3;
 use super::Film;
 use super::output::temporary_path;
 
-const MAGIC: &[u8; 8] = b"FOTONCK2";
-const HEADER: usize = 8 + 3 * 4 + 3 * 8;
+const MAGIC: &[u8; 8] = b"FOTONCK3";
+const HEADER: usize = 8 + 3 * 4 + 4 * 8;
 const PER_PIXEL: usize = 5 * 8;
 
 /// What a checkpoint holds besides the film: the settings it must be resumed with.
@@ -47,6 +47,8 @@ pub fn write_checkpoint(path: &Path, film: &Film, info: CheckpointInfo) -> Resul
     for v in [info.seed, info.pixel_set, film.rejected_samples()] {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
+    let clamp = film.max_component().map_or(0.0, f64::from);
+    bytes.extend_from_slice(&clamp.to_le_bytes());
     for ((sum, weight), count) in film.sums().iter().zip(film.weights()).zip(film.counts()) {
         for v in sum.to_array().into_iter().chain([*weight]) {
             bytes.extend_from_slice(&v.to_le_bytes());
@@ -69,12 +71,14 @@ pub fn read_checkpoint(path: &Path) -> Result<(Film, CheckpointInfo), String> {
     let bytes = fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let bad = |what: &str| format!("{}: not a foton checkpoint ({what})", path.display());
     if bytes.len() < HEADER || &bytes[..8] != MAGIC {
-        return Err(bad("no FOTONCK2 header"));
+        return Err(bad("no FOTONCK3 header"));
     }
     let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap_or_default());
     let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap_or_default());
     let (width, height, passes) = (u32_at(8), u32_at(12), u32_at(16));
     let (seed, pixel_set, rejected) = (u64_at(20), u64_at(28), u64_at(36));
+    let clamp = f64::from_bits(u64_at(44));
+    let max_component = (clamp > 0.0).then_some(clamp as f32);
     let n = width as usize * height as usize;
     if bytes.len() != HEADER + n * PER_PIXEL {
         return Err(bad(&format!(
@@ -91,8 +95,16 @@ pub fn read_checkpoint(path: &Path) -> Result<(Film, CheckpointInfo), String> {
         weights.push(f(24));
         counts.push(u64::from_le_bytes(p[32..40].try_into().unwrap_or_default()));
     }
-    let film = Film::from_parts(width, height, sums, weights, counts, rejected)
-        .ok_or_else(|| bad("film size"))?;
+    let film = Film::from_parts(
+        width,
+        height,
+        sums,
+        weights,
+        counts,
+        rejected,
+        max_component,
+    )
+    .ok_or_else(|| bad("film size"))?;
     Ok((
         film,
         CheckpointInfo {
@@ -114,6 +126,7 @@ mod tests {
         fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
         let path = dir.join("a.checkpoint");
         let mut film = Film::new(3, 2);
+        film.clamp_samples(Some(2.5));
         film.splat_with(crate::film::PixelFilter::new(
             crate::film::FilterKind::Gaussian { alpha: 2.0 },
             glam::Vec2::splat(1.5),
@@ -134,6 +147,7 @@ mod tests {
         assert_eq!(read.weights(), film.weights());
         assert_eq!(read.counts(), film.counts());
         assert_eq!(read.rejected_samples(), 1);
+        assert_eq!(read.max_component(), Some(2.5));
         fs::write(&path, b"FOTONCK1 but short").unwrap_or_else(|e| panic!("{e}"));
         let e = read_checkpoint(&path).err().unwrap_or_default();
         assert!(

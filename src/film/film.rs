@@ -84,6 +84,8 @@ pub struct Film {
     rejected: u64,
     /// The filter samples are splatted with; `None` for filter importance sampling.
     splat: Option<SplatFilter>,
+    /// The largest component a sample may have (`--clamp`); `None`: samples are not clamped.
+    max_component: Option<f32>,
 }
 
 impl Film {
@@ -97,7 +99,22 @@ impl Film {
             counts: vec![0; n],
             rejected: 0,
             splat: None,
+            max_component: None,
         }
+    }
+
+    /// From now on, a sample whose largest component exceeds `max_component` is scaled down to
+    /// it (`None`: no clamping), as pbrt-v4's `RGBFilm::AddSample` does with its
+    /// `maxcomponentvalue`. Scaling the whole colour keeps the sample's hue. This removes
+    /// fireflies at the price of bias: the energy above the limit is lost, so the image is
+    /// darker where rare bright paths (caustics, small bright lights seen by reflection) matter.
+    pub fn clamp_samples(&mut self, max_component: Option<f32>) {
+        self.max_component = max_component;
+    }
+
+    /// The limit of [`Film::clamp_samples`] (for checkpoints).
+    pub fn max_component(&self) -> Option<f32> {
+        self.max_component
     }
 
     /// From now on, samples are splatted with `filter` (their positions must then be uniform
@@ -116,6 +133,7 @@ impl Film {
         weights: Vec<f64>,
         counts: Vec<u64>,
         rejected: u64,
+        max_component: Option<f32>,
     ) -> Option<Self> {
         let n = width as usize * height as usize;
         (sums.len() == n && weights.len() == n && counts.len() == n).then_some(Self {
@@ -126,6 +144,7 @@ impl Film {
             counts,
             rejected,
             splat: None,
+            max_component,
         })
     }
 
@@ -176,7 +195,12 @@ impl Film {
             return;
         };
         *count += 1;
-        let radiance = radiance.as_dvec3();
+        let largest = radiance.max_element();
+        let radiance = match self.max_component {
+            Some(max) if largest > max => radiance * (max / largest),
+            _ => radiance,
+        }
+        .as_dvec3();
         match &self.splat {
             None => {
                 self.sums[pixel as usize] += radiance;

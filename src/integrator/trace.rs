@@ -32,12 +32,13 @@ pub fn trace_closest_hits(
 
 pub fn trace_shadow_rays(geometry: Res<SceneGeometry>, mut shadows: ResMut<ShadowBatch>) {
     let shadows = &mut *shadows;
-    // Empty slots have t_max 0 and are skipped.
+    // Empty slots have t_max 0 and are skipped; invisible surfaces let the light through.
     geometry.accel.any_hits(
         &shadows.origin,
         &shadows.direction,
         0.0,
         &shadows.t_max,
+        geometry.pass_through.as_ref(),
         &mut shadows.occluded,
     );
 }

@@ -145,6 +145,11 @@ impl MaterialTable {
         })
     }
 
+    /// Whether material `id` is `null`: rays, shadow rays included, pass through it.
+    pub fn is_null(&self, id: u32) -> bool {
+        matches!(self.materials.get(id as usize), Some(Material::Null))
+    }
+
     /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
     /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one).
     pub fn bsdf_at(

@@ -50,6 +50,8 @@ pub struct RenderOptions {
     pub fisheye_fit: FisheyeFit,
     /// Render only these pixels (see `RenderSettings::pixels`).
     pub pixels: Option<Vec<u32>>,
+    /// The largest component a sample may bring to the film (`Film::clamp_samples`).
+    pub clamp: Option<f32>,
 }
 
 impl Default for RenderOptions {
@@ -68,6 +70,7 @@ impl Default for RenderOptions {
             fisheye_fov: None,
             fisheye_fit: FisheyeFit::Ellipse,
             pixels: None,
+            clamp: None,
         }
     }
 }
@@ -247,7 +250,9 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
             desc.filter.radius,
         ),
     });
-    world.insert_resource(Film::new(width, height));
+    let mut film = Film::new(width, height);
+    film.clamp_samples(options.clamp);
+    world.insert_resource(film);
     world.insert_resource(settings);
     (world, notes)
 }

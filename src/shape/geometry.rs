@@ -9,8 +9,10 @@ use glam::{Affine3A, Vec2, Vec3};
 
 use super::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
 use crate::accel::{
-    Accel, MeshInstance, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives, SphereInstance,
+    Accel, MeshInstance, PassThrough, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives,
+    SphereInstance,
 };
+use crate::material::MaterialTable;
 
 /// No emitter on this primitive.
 pub const NO_EMITTER: u32 = u32::MAX;
@@ -41,6 +43,8 @@ pub struct SceneGeometry {
     pub instances: Vec<MeshInstance>,
     /// Material index of each primitive, by id.
     pub material: Vec<u32>,
+    /// The primitives shadow rays pass through (null material); `None` if there are none.
+    pub pass_through: Option<PassThrough>,
     /// Emitter (index into `emissive_shapes`) of each primitive by id, or [`NO_EMITTER`].
     pub emitter: Vec<u32>,
     pub emissive_shapes: Vec<EmissiveShape>,
@@ -70,6 +74,7 @@ pub fn build_scene_geometry(
     spheres: Query<ShapeQuery<Sphere>>,
     planes: Query<ShapeQuery<Plane>>,
     needs: Res<GeometryNeeds>,
+    materials: Res<MaterialTable>,
     mut commands: Commands,
 ) {
     let any_normals = meshes.iter().any(|(mesh, _, _)| mesh.normals.is_some());
@@ -168,6 +173,9 @@ pub fn build_scene_geometry(
         })
         .collect();
     let (bounds_centre, bounds_radius) = bounding_sphere(&triangles, &sphere_shapes);
+    let pass_through = PassThrough::new(ids.count(), |id| {
+        (material.get(id as usize)).is_some_and(|&m| materials.is_null(m))
+    });
     commands.insert_resource(SceneGeometry {
         accel: Arc::new(Accel::build(&primitives)),
         ids,
@@ -179,6 +187,7 @@ pub fn build_scene_geometry(
         meshes: primitives.meshes,
         instances: primitives.instances,
         material,
+        pass_through,
         emitter,
         emissive_shapes,
         bounds_centre,

@@ -114,25 +114,27 @@ fn read_mesh(stream: &mut impl Read, version: u16) -> std::io::Result<TriangleMe
             }
         }
     }
-    let vertex_count = read_u64(stream)? as usize;
-    let face_count = read_u64(stream)? as usize;
+    let vertex_count = read_u64(stream)?;
+    let face_count = read_u64(stream)?;
     let double = flags & DOUBLE_PRECISION != 0;
-    let positions = read_floats(stream, vertex_count * 3, double)?;
+    let positions = read_floats(stream, vertex_count, 3, double)?;
     let normals = if flags & HAS_NORMALS != 0 {
-        Some(read_floats(stream, vertex_count * 3, double)?)
+        Some(read_floats(stream, vertex_count, 3, double)?)
     } else {
         None
     };
     let uvs = if flags & HAS_UVS != 0 {
-        Some(read_floats(stream, vertex_count * 2, double)?)
+        Some(read_floats(stream, vertex_count, 2, double)?)
     } else {
         None
     };
     if flags & HAS_COLORS != 0 {
-        read_floats(stream, vertex_count * 3, double)?;
+        read_floats(stream, vertex_count, 3, double)?;
     }
-    let wide = vertex_count > u32::MAX as usize;
-    let mut indices = Vec::with_capacity(face_count);
+    let wide = vertex_count > u64::from(u32::MAX);
+    // The counts come from the file: reserve no more than a plausible amount up front, so a
+    // corrupt count fails on the missing data instead of on the allocation.
+    let mut indices = Vec::with_capacity(face_count.min(1 << 20) as usize);
     for _ in 0..face_count {
         let mut tri = [0u32; 3];
         for i in &mut tri {
@@ -141,7 +143,7 @@ fn read_mesh(stream: &mut impl Read, version: u16) -> std::io::Result<TriangleMe
             } else {
                 read_u32(stream)? as u64
             };
-            if v as usize >= vertex_count {
+            if v >= vertex_count {
                 return Err(std::io::Error::other(format!(
                     "vertex index {v} of {vertex_count}"
                 )));
@@ -171,10 +173,23 @@ fn read_u64(stream: &mut impl Read) -> std::io::Result<u64> {
     Ok(u64::from_le_bytes(b))
 }
 
-fn read_floats(stream: &mut impl Read, count: usize, double: bool) -> std::io::Result<Vec<f32>> {
+/// `count` vectors of `dimension` floats (f64 or f32 in the file). The bytes are read as the
+/// stream yields them rather than into a buffer of the announced size, so a corrupt count in a
+/// short file is an error, not an attempt to allocate it.
+fn read_floats(
+    stream: &mut impl Read,
+    count: u64,
+    dimension: u64,
+    double: bool,
+) -> std::io::Result<Vec<f32>> {
     let size = if double { 8 } else { 4 };
-    let mut raw = vec![0u8; count * size];
-    stream.read_exact(&mut raw)?;
+    let bytes = (count.checked_mul(dimension * size))
+        .ok_or_else(|| std::io::Error::other(format!("{count} vertices")))?;
+    let mut raw = Vec::new();
+    stream.take(bytes).read_to_end(&mut raw)?;
+    if raw.len() as u64 != bytes {
+        return Err(std::io::ErrorKind::UnexpectedEof.into());
+    }
     Ok(if double {
         raw.chunks_exact(8)
             .map(|b| f64::from_le_bytes(b.try_into().unwrap()) as f32)
