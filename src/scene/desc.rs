@@ -15,6 +15,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
 use crate::camera::{CameraType, pinhole};
+pub use crate::light::spot::SpotFalloff;
 pub use crate::texture::TextureGraph;
 
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
@@ -84,6 +85,9 @@ pub struct SceneDesc {
     pub pixel_samples: Option<u32>,
     /// `SurfaceIntegrator "maxdepth"` or `"eyedepth"`, if given.
     pub max_depth: Option<u32>,
+    /// Emitters seen directly from the camera (also through null surfaces) render black
+    /// (Mitsuba's `hide_emitters`).
+    pub hide_emitters: bool,
     pub filter: FilterDesc,
     /// Decoded images, referred to by the texture graph's image nodes and by lights.
     pub textures: Vec<ImageTexture>,
@@ -92,6 +96,9 @@ pub struct SceneDesc {
     pub texture_graph: TextureGraph,
     pub materials: Vec<MaterialDesc>,
     pub shapes: Vec<ShapeDesc>,
+    /// Groups of shapes declared once (in the group's space) and placed by
+    /// [`Geometry::Instance`] shapes (Mitsuba's `shapegroup`).
+    pub shape_groups: Vec<Vec<ShapeDesc>>,
     pub lights: Vec<LightDesc>,
     /// Warnings met while loading, in file order.
     pub warnings: Vec<SceneWarning>,
@@ -122,6 +129,7 @@ impl SceneDesc {
             },
             pixel_samples: None,
             max_depth: None,
+            hide_emitters: false,
             filter: FilterDesc {
                 kind: FilterKind::Box,
                 radius: Vec2::splat(0.5),
@@ -130,6 +138,7 @@ impl SceneDesc {
             texture_graph: TextureGraph::default(),
             materials: Vec::new(),
             shapes: Vec::new(),
+            shape_groups: Vec::new(),
             lights: Vec::new(),
             warnings: Vec::new(),
         }
@@ -283,6 +292,9 @@ pub enum MaterialDesc {
         second: MaterialId,
         amount: f32,
     },
+    /// `material` seen from the side its surface's normal faces, black from the back (Mitsuba's
+    /// reflecting BSDFs outside `twosided`). Any other material scatters from both sides.
+    OneSided { material: MaterialId },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -300,6 +312,9 @@ pub enum Geometry {
     },
     /// The course's infinite plane through the object-space origin.
     Plane { normal: Vec3 },
+    /// A placed copy of `SceneDesc::shape_groups[group]`, each member with its own material; its
+    /// meshes are shared (built once, placed by a second BVH level), not copied.
+    Instance { group: usize },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -332,7 +347,7 @@ impl ShapeDesc {
                 let scale = (m.x_axis.length() * m.y_axis.length() * m.z_axis.length()).cbrt();
                 4.0 * PI * (radius * scale).powi(2)
             }
-            Geometry::Plane { .. } => f32::INFINITY,
+            Geometry::Plane { .. } | Geometry::Instance { .. } => f32::INFINITY,
         }
     }
 }
@@ -356,6 +371,8 @@ pub enum LightDesc {
         /// Full cone half-angle (`coneangle`) and the width of its falloff (`conedeltaangle`), degrees.
         cone_angle: f32,
         cone_delta_angle: f32,
+        /// The curve across the falloff band (LuxRender's and Mitsuba's differ).
+        falloff: SpotFalloff,
     },
     /// Light arriving from `direction_to_light` (unit, world space) with radiance `radiance`.
     Distant {
