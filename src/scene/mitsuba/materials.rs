@@ -18,10 +18,16 @@ use crate::scene::io::image as images;
 
 /// Mitsuba's default surface: diffuse, reflectance 0.5 (one-sided, as every `diffuse`).
 pub fn default_material(cx: &mut Converter) -> MaterialId {
+    one_sided_diffuse(cx, 0.5)
+}
+
+/// A one-sided diffuse BSDF of `reflectance`; Mitsuba gives an emitting shape without a BSDF a
+/// black one (`Shape::Shape`: `if (m_emitter) props2.set("reflectance", 0.f)`).
+pub fn one_sided_diffuse(cx: &mut Converter, reflectance: f32) -> MaterialId {
     let diffuse = push(
         cx,
         MaterialDesc::Diffuse {
-            reflectance: ColorParam::Constant(Vec3::splat(0.5)),
+            reflectance: ColorParam::Constant(Vec3::splat(reflectance)),
         },
     );
     push(cx, MaterialDesc::OneSided { material: diffuse })

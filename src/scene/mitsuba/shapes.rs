@@ -133,8 +133,10 @@ fn finish(
         .children_tagged(tree, "bsdf")
         .map(|(_, b)| b)
         .collect();
+    let shape_emitters: Vec<_> = object.children_tagged(tree, "emitter").collect();
     let material = match bsdfs.first() {
         Some(b) => materials::bsdf(cx, b)?,
+        None if !shape_emitters.is_empty() => materials::one_sided_diffuse(cx, 0.0),
         None => materials::default_material(cx),
     };
     if bsdfs.len() > 1 {
@@ -148,7 +150,7 @@ fn finish(
         );
     }
     let mut area_light = None;
-    for (_, emitter) in object.children_tagged(tree, "emitter") {
+    for (_, emitter) in shape_emitters {
         area_light = emitters::area(cx, emitter);
     }
     object.prop("id");
