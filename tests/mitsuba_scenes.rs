@@ -11,9 +11,14 @@ use foton::scene::desc::SceneDesc;
 use glam::Vec3;
 
 fn render(desc: SceneDesc, resolution: (u32, u32), spp: u32) -> Vec<Vec3> {
+    render_seeded(desc, resolution, spp, 0)
+}
+
+fn render_seeded(desc: SceneDesc, resolution: (u32, u32), spp: u32, seed: u64) -> Vec<Vec3> {
     let options = RenderOptions {
         samples_per_pixel: Some(spp),
         resolution: Some(resolution),
+        seed,
         ..RenderOptions::default()
     };
     let (world, _) = build_world(desc, &options);
@@ -308,16 +313,7 @@ fn instances_of_a_shapegroup_render_as_its_shapes_placed_one_by_one() {
     let render_seed = |body: &str, seed: u64| {
         let desc = foton::scene::load(&scene_with("x", body)).unwrap();
         assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
-        let options = RenderOptions {
-            samples_per_pixel: Some(16),
-            resolution: Some((40, 20)),
-            seed,
-            ..RenderOptions::default()
-        };
-        let (world, _) = build_world(desc, &options);
-        let mut renderer = Renderer::new(world);
-        renderer.render(|_| true);
-        renderer.image()
+        render_seeded(desc, (40, 20), 16, seed)
     };
     let desc = foton::scene::load(&scene_with("x", &instanced)).unwrap();
     assert_eq!(desc.shape_groups.len(), 1);
