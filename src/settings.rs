@@ -24,6 +24,9 @@ pub struct RenderSettings {
     pub samples_per_pixel: u32,
     /// Path vertices after the camera's: 1 is direct light only.
     pub max_depth: u32,
+    /// A camera path that reaches an emitter (an area light or the environment) before it
+    /// scatters contributes nothing (Mitsuba's `hide_emitters`).
+    pub hide_emitters: bool,
     pub seed: u64,
     pub sampler: SamplerKind,
     pub integrator: IntegratorKind,

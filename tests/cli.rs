@@ -814,3 +814,41 @@ fn clamp_limits_every_sample_and_must_match_on_resume() {
     let output = foton(&[&bench[..], &["--resolution", "8x8"]].concat());
     assert!(output.status.success(), "{}", stderr(&output));
 }
+
+#[test]
+fn scene_parameters_come_from_the_command_line() {
+    // `-D width=12` overrides the scene's `<default>` (8); a parameter the scene never reads is a
+    // warning naming it, and the render goes on (for `bench` as for `render`).
+    let dir = temp_dir("defines");
+    let scene = dir.join("defines.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0"><default name="width" value="8"/>
+        <sensor type="perspective"><film type="hdrfilm">
+        <integer name="width" value="$width"/><integer name="height" value="4"/></film></sensor>
+        <emitter type="constant"/><shape type="sphere"/></scene>"#,
+    )
+    .unwrap();
+    let out = dir.join("defines.exr");
+    let scene = scene.to_str().unwrap();
+    for (defines, width) in [(vec![], 8), (vec!["-D", "width=12"], 12)] {
+        let mut args = vec!["render", scene, "-o", out.to_str().unwrap(), "--spp", "1"];
+        args.extend(defines);
+        let output = foton(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        assert_eq!(read_exr(&out).unwrap().0, width);
+    }
+    for command in ["render", "bench"] {
+        let mut args = vec![command, scene, "-D", "wdith=12", "--spp", "1"];
+        if command == "render" {
+            args.extend(["-o", out.to_str().unwrap()]);
+        }
+        let output = foton(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        assert!(
+            stderr(&output).contains("warning") && stderr(&output).contains("wdith=12"),
+            "{command}: {}",
+            stderr(&output)
+        );
+    }
+}

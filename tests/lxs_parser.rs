@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use foton::scene::desc::{
-    ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, SceneDesc, SceneError, ToneMap,
+    ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, SceneDesc, SceneError, SpotFalloff,
+    ToneMap,
 };
 use foton::scene::lxs::load;
 use foton::texture::{TexParam, TextureNode};
@@ -776,6 +777,7 @@ fn point_spot_and_distant_lights_go_through_the_ctm() {
             intensity: Vec3::ONE,
             cone_angle: 22.5,
             cone_delta_angle: 3.375,
+            falloff: SpotFalloff::SmoothCosine,
         }
     );
     match s.lights[2] {

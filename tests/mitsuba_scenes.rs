@@ -11,9 +11,14 @@ use foton::scene::desc::SceneDesc;
 use glam::Vec3;
 
 fn render(desc: SceneDesc, resolution: (u32, u32), spp: u32) -> Vec<Vec3> {
+    render_seeded(desc, resolution, spp, 0)
+}
+
+fn render_seeded(desc: SceneDesc, resolution: (u32, u32), spp: u32, seed: u64) -> Vec<Vec3> {
     let options = RenderOptions {
         samples_per_pixel: Some(spp),
         resolution: Some(resolution),
+        seed,
         ..RenderOptions::default()
     };
     let (world, _) = build_world(desc, &options);
@@ -201,5 +206,163 @@ fn textured_reflectance_reaches_the_material() {
     assert!(
         ((mean - albedo) / albedo).abs().max_element() < 0.01,
         "mean {mean} against the reflectance {albedo}"
+    );
+}
+
+/// The mean and its standard error over the 8x8 pixels at the centre of a 40x20 image.
+fn centre_mean(image: &[Vec3]) -> (f64, f64) {
+    let values: Vec<f64> = (6..14)
+        .flat_map(|y| (16..24).map(move |x| image[y * 40 + x].x as f64))
+        .collect();
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (variance / n).sqrt())
+}
+
+#[test]
+fn diffuse_is_black_from_the_back_unless_twosided() {
+    // A diffuse quad (albedo 0.5) 5 units ahead filling the image's centre, its normal facing
+    // away from the camera unless flipped, under a uniform sky of radiance 1: from its lit side it
+    // is 0.5 (the albedo), from its back black in Mitsuba unless the BSDF is wrapped in twosided.
+    let quad = |bsdf: &str, flip: bool| {
+        format!(
+            r#"<emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+            <shape type="rectangle"><boolean name="flip_normals" value="{flip}"/>
+            <transform name="to_world"><translate z="5"/></transform>{bsdf}</shape>"#
+        )
+    };
+    let diffuse = r#"<bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>"#;
+    let twosided = format!(r#"<bsdf type="twosided">{diffuse}</bsdf>"#);
+    let centre = |body: String| {
+        let desc = foton::scene::load(&scene_with("x", &body)).unwrap();
+        centre_mean(&render(desc, (40, 20), 16))
+    };
+    let (back, _) = centre(quad(diffuse, false));
+    assert_eq!(back, 0.0, "one-sided diffuse seen from the back");
+    for (what, body) in [
+        ("twosided from the back", quad(&twosided, false)),
+        ("one-sided from the front", quad(diffuse, true)),
+    ] {
+        let (mean, error) = centre(body);
+        assert!(
+            (mean - 0.5).abs() < 4.0 * error + 1e-4,
+            "{what}: {mean} +- {error}, expected 0.5"
+        );
+    }
+}
+
+#[test]
+fn hide_emitters_hides_what_the_camera_sees_directly() {
+    // Under a sky of 0.25, behind an invisible (null) sheet: an emitting quad on the image's left
+    // (x = +1.5), a diffuse one on its right. Mitsuba 3.9 with hide_emitters drops every camera
+    // path whose first surface is an emitter (its reflection too) and those leaving unscattered;
+    // light reflected by the diffuse quad stays.
+    let scene = |hide: bool| {
+        format!(
+            r#"<integrator type="path"><boolean name="hide_emitters" value="{hide}"/></integrator>
+            <emitter type="constant"><rgb name="radiance" value="0.25"/></emitter>
+            <shape type="rectangle"><bsdf type="null"/>
+            <transform name="to_world"><scale value="3"/><translate z="2"/></transform></shape>
+            <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="4"/></emitter>
+            <transform name="to_world"><scale value="0.5"/><rotate y="1" angle="180"/>
+            <translate x="1.5" z="5"/></transform></shape>
+            <shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf>
+            <transform name="to_world"><scale value="0.5"/><translate x="-1.5" z="5"/></transform>
+            </shape>"#
+        )
+    };
+    let render_with = |hide: bool| {
+        let desc = foton::scene::load(&scene_with("x", &scene(hide))).unwrap();
+        assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+        render(desc, (40, 20), 4)
+    };
+    let (sky, emitter, diffuse) = (0, 10 * 40 + 10, 10 * 40 + 30);
+    let shown = render_with(false);
+    assert!((shown[sky].x - 0.25).abs() < 1e-5, "sky {}", shown[sky]);
+    assert!(shown[emitter].x >= 4.0, "emitter {}", shown[emitter]);
+    let hidden = render_with(true);
+    assert_eq!(hidden[sky], Vec3::ZERO, "sky through the null sheet");
+    assert_eq!(
+        hidden[emitter],
+        Vec3::ZERO,
+        "emitter through the null sheet"
+    );
+    assert!(hidden[diffuse].x > 0.01, "diffuse {}", hidden[diffuse]);
+}
+
+#[test]
+fn instances_of_a_shapegroup_render_as_its_shapes_placed_one_by_one() {
+    // A group of two meshes (a twosided red quad, a cube) and a sphere, placed three times, against
+    // the same shapes written out with each member's transform followed by its instance's. The
+    // two renders differ by noise only: their squared difference at different seeds is that of
+    // two renders of the flattened scene (bounded at 1.25x: 800 pixels at 16 spp).
+    let members = [
+        (
+            r#"type="rectangle""#,
+            r#"<bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.2, 0.1"/></bsdf></bsdf>"#,
+            r#"<scale value="0.5"/>"#,
+        ),
+        (
+            r#"type="cube""#,
+            "",
+            r#"<scale value="0.3"/><translate x="0.6"/>"#,
+        ),
+        (
+            r#"type="sphere""#,
+            r#"<float name="radius" value="0.25"/>"#,
+            r#"<translate y="0.6"/>"#,
+        ),
+    ];
+    let placements = [
+        r#"<rotate y="1" angle="30"/><translate x="-1.5" z="5"/>"#,
+        r#"<scale value="1.2"/><translate x="1.2" z="6"/>"#,
+        r#"<rotate x="1" angle="-40"/><translate y="0.3" z="4"/>"#,
+    ];
+    let sky = r#"<emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>"#;
+    let shape = |(kind, inner, ops): &(&str, &str, &str), more: &str| {
+        format!(
+            r#"<shape {kind}>{inner}<transform name="to_world">{ops}{more}</transform></shape>"#
+        )
+    };
+    let group: String = members.iter().map(|m| shape(m, "")).collect();
+    let instanced: String = placements
+        .iter()
+        .map(|ops| {
+            format!(
+                r#"<shape type="instance"><ref id="group"/><transform name="to_world">{ops}</transform></shape>"#
+            )
+        })
+        .collect();
+    let instanced =
+        format!(r#"{sky}<shape type="shapegroup" id="group">{group}</shape>{instanced}"#);
+    let flattened: String = placements
+        .iter()
+        .flat_map(|ops| members.iter().map(move |m| shape(m, ops)))
+        .collect();
+    let flattened = format!("{sky}{flattened}");
+    let render_seed = |body: &str, seed: u64| {
+        let desc = foton::scene::load(&scene_with("x", body)).unwrap();
+        assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+        render_seeded(desc, (40, 20), 16, seed)
+    };
+    let desc = foton::scene::load(&scene_with("x", &instanced)).unwrap();
+    assert_eq!(desc.shape_groups.len(), 1);
+    assert_eq!(desc.shape_groups[0].len(), 3);
+    let squared_difference = |a: &[Vec3], b: &[Vec3]| -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (*x - *y).length_squared() as f64)
+            .sum::<f64>()
+            / a.len() as f64
+    };
+    let (flat1, flat2) = (render_seed(&flattened, 1), render_seed(&flattened, 2));
+    let noise = squared_difference(&flat1, &flat2);
+    let instances = render_seed(&instanced, 1);
+    let difference = squared_difference(&instances, &flat2);
+    assert!(noise > 0.0);
+    assert!(
+        difference < 1.25 * noise,
+        "instanced vs flattened {difference}, flattened at two seeds {noise}"
     );
 }

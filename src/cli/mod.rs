@@ -129,8 +129,11 @@ struct CompareArgs {
 /// The scene and how to render it; shared by `render` and `bench`.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// The scene file; its extension picks the loader (.lxs).
+    /// The scene file; its extension picks the loader (.lxs, .xml).
     pub scene: PathBuf,
+    /// A scene parameter, `-D name=value` (Mitsuba's `$name`; repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<(String, String)>,
     /// Samples per pixel (the original's -s / -aa).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
@@ -379,6 +382,15 @@ fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
         x.trim().parse().map_err(|_| bad())?,
         y.trim().parse().map_err(|_| bad())?,
     ))
+}
+
+fn parse_define(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.trim().is_empty() => {
+            Ok((name.trim().to_string(), value.to_string()))
+        }
+        _ => Err(format!("expected NAME=VALUE, got {text:?}")),
+    }
 }
 
 fn parse_resolution(text: &str) -> Result<(u32, u32), String> {

@@ -24,8 +24,8 @@ use crate::settings::RenderSettings;
 
 /// Loads the scene and prints its warnings; an unreadable, malformed or empty scene is an error.
 fn load(args: &SceneArgs) -> Result<(SceneDesc, usize), Failure> {
-    let desc =
-        scene::load(&args.scene).map_err(|e| Failure::new(exit::SCENE_ERROR, e.to_string()))?;
+    let desc = scene::load_with(&args.scene, &args.define)
+        .map_err(|e| Failure::new(exit::SCENE_ERROR, e.to_string()))?;
     for warning in &desc.warnings {
         eprintln!("{warning}");
     }

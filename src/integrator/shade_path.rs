@@ -32,8 +32,11 @@ pub fn shade_path_vertices(
 
 fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option<ShadowRay> {
     let lights = scene.lights;
+    // Mitsuba 3.9 with `hide_emitters` drops a camera path whose first surface (past null ones)
+    // is an emitter, its reflection included, and one that leaves the scene unscattered.
+    let hidden = scene.hide_emitters && *path.depth == 0;
     let Some(hit) = hit else {
-        if let Some((index, environment)) = lights.environment() {
+        if let Some((index, environment)) = lights.environment().filter(|_| !hidden) {
             let light = environment.radiance(*path.direction);
             let weight = emission_weight(lights, *path.scatter_pdf, index, || {
                 environment.pdf(*path.direction)
@@ -47,6 +50,10 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         .geometry
         .surface_point(hit, *path.origin, *path.direction);
     let wo = -*path.direction;
+    if hidden && surface.emitter != NO_EMITTER {
+        *path.alive = false;
+        return None;
+    }
 
     if surface.emitter != NO_EMITTER
         && surface.geometric_normal.dot(wo) > 0.0
@@ -69,7 +76,11 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         *path.alive = false;
         return None;
     }
-    face_forward(&mut surface, &bsdf, wo);
+    let one_sided = scene.materials.is_one_sided(surface.material);
+    if !face_forward(&mut surface, &bsdf, wo, one_sided) {
+        *path.alive = false;
+        return None;
+    }
     let frame = crate::bsdf::frame::Frame::from_z(surface.shading_normal);
     let wo_local = frame.to_local(wo);
 

@@ -66,7 +66,11 @@ fn shade_hit(
         path.pass_through(&surface);
         return;
     };
-    face_forward(&mut surface, &bsdf, wo);
+    let one_sided = scene.materials.is_one_sided(surface.material);
+    if !face_forward(&mut surface, &bsdf, wo, one_sided) {
+        *path.alive = false;
+        return;
+    }
 
     if bsdf.is_delta() {
         // Mirror and glass: follow the reflected or refracted ray (glass picks one by Fresnel).

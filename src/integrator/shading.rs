@@ -41,6 +41,7 @@ impl ShadingInputs<'_> {
             textures: self.textures.as_deref(),
             lights: &self.lights,
             max_depth: self.settings.max_depth,
+            hide_emitters: self.settings.hide_emitters,
             rr_depth: self.techniques.rr_depth,
         }
     }
@@ -57,6 +58,8 @@ pub struct Scene<'a> {
     pub textures: Option<&'a TextureTable>,
     pub lights: &'a LightTable,
     pub max_depth: u32,
+    /// See `RenderSettings::hide_emitters`.
+    pub hide_emitters: bool,
     /// Bounces before Russian roulette may end a path.
     pub rr_depth: u32,
 }
@@ -244,9 +247,16 @@ impl ShadowRay {
 
 /// Turns the surface's normals to face `wo` when the BSDF only reflects, so one-sided meshes
 /// shade the same from both sides; a dielectric keeps them, as their side tells in from out.
-pub fn face_forward(surface: &mut SurfacePoint, bsdf: &Bsdf, wo: Vec3) {
+/// A `one_sided` material keeps them too, and scatters nothing when seen from the back: false
+/// then. Mitsuba's reflecting BSDFs are zero unless cos theta > 0 in the shading frame on both
+/// sides (`diffuse.cpp`: `active &= cos_theta_i > 0.f && cos_theta_o > 0.f`).
+pub fn face_forward(surface: &mut SurfacePoint, bsdf: &Bsdf, wo: Vec3, one_sided: bool) -> bool {
+    if one_sided {
+        return surface.shading_normal.dot(wo) > 0.0;
+    }
     if !bsdf.has_inside() && surface.geometric_normal.dot(wo) < 0.0 {
         surface.geometric_normal = -surface.geometric_normal;
         surface.shading_normal = -surface.shading_normal;
     }
+    true
 }

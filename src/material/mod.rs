@@ -96,6 +96,10 @@ pub enum Material {
         second: usize,
         amount: f32,
     },
+    /// Material `material` from the front, black from the back (see [`MaterialTable::is_one_sided`]).
+    OneSided {
+        material: usize,
+    },
 }
 
 #[derive(Resource, Clone, Debug)]
@@ -139,7 +143,7 @@ impl MaterialTable {
                 | Material::RoughPlastic {
                     diffuse, specular, ..
                 } => &[diffuse, specular],
-                Material::Null | Material::Mix { .. } => &[],
+                Material::Null | Material::Mix { .. } | Material::OneSided { .. } => &[],
             };
             inputs.iter().any(|c| matches!(c, Color::Texture(_)))
         })
@@ -148,6 +152,15 @@ impl MaterialTable {
     /// Whether material `id` is `null`: rays, shadow rays included, pass through it.
     pub fn is_null(&self, id: u32) -> bool {
         matches!(self.materials.get(id as usize), Some(Material::Null))
+    }
+
+    /// Whether material `id` scatters only toward the side its surface's normal faces (a
+    /// [`Material::OneSided`]; one inside a mix counts as its material, two-sided).
+    pub fn is_one_sided(&self, id: u32) -> bool {
+        matches!(
+            self.materials.get(id as usize),
+            Some(Material::OneSided { .. })
+        )
     }
 
     /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
@@ -278,6 +291,10 @@ impl MaterialTable {
                         choice = (choice - amount) / (1.0 - amount);
                         id = *first;
                     }
+                    continue;
+                }
+                Material::OneSided { material } => {
+                    id = *material;
                     continue;
                 }
             };

@@ -1,11 +1,15 @@
 //! From a scene description to the bevy_ecs world: one entity per camera, shape and light, and
 //! the resources the schedules read. Only what the scene uses is inserted.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{
-    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ToneMap,
+    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ShapeDesc,
+    ToneMap,
 };
 use crate::bsdf::microfacet::clamp_alpha;
 use crate::bsdf::oren_nayar::oren_nayar_ab;
@@ -25,7 +29,7 @@ use crate::material::{Color, Material, MaterialTable};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::shape::geometry::GeometryNeeds;
-use crate::shape::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
+use crate::shape::{AreaEmitter, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh};
 
 /// Samples per pixel and bounces when neither the scene nor the command line says.
 pub const DEFAULT_SAMPLES_PER_PIXEL: u32 = 16;
@@ -95,6 +99,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
             .max_depth
             .or(desc.max_depth)
             .unwrap_or(DEFAULT_MAX_DEPTH),
+        hide_emitters: desc.hide_emitters,
         seed: options.seed,
         sampler: options.sampler,
         integrator: options
@@ -115,10 +120,52 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     let material_table = MaterialTable { materials };
     let uses_textures = material_table.uses_textures();
 
-    for shape in &desc.shapes {
+    // Instances place their groups' meshes by reference; any other member (a sphere, a plane)
+    // is placed as a shape of its own.
+    let placed_members: Vec<ShapeDesc> = (desc.shapes.iter())
+        .filter_map(|shape| match shape.geometry {
+            Geometry::Instance { group } => Some((shape, desc.shape_groups.get(group)?)),
+            _ => None,
+        })
+        .flat_map(|(instance, members)| {
+            (members.iter())
+                .filter(|m| !matches!(m.geometry, Geometry::TriangleMesh { .. }))
+                .map(|member| ShapeDesc {
+                    object_to_world: instance.object_to_world * member.object_to_world,
+                    ..member.clone()
+                })
+        })
+        .collect();
+    let mut shared_meshes = HashMap::new();
+    for shape in desc.shapes.iter().chain(&placed_members) {
         let material = SurfaceMaterial(shape.material.unwrap_or(default_material) as u32);
         let to_world = Affine3A::from_mat4(shape.object_to_world);
         let mut spawned = match &shape.geometry {
+            Geometry::Instance { group } => {
+                let members = desc.shape_groups.get(*group).map_or(&[][..], Vec::as_slice);
+                for (k, member) in members.iter().enumerate() {
+                    let Geometry::TriangleMesh {
+                        positions, indices, ..
+                    } = &member.geometry
+                    else {
+                        continue;
+                    };
+                    let triangles = shared_meshes.entry((*group, k)).or_insert_with(|| {
+                        let to_group = Affine3A::from_mat4(member.object_to_world);
+                        let p = |i: u32| to_group.transform_point3(positions[i as usize]);
+                        Arc::new(indices.iter().map(|t| t.map(p)).collect::<Vec<_>>())
+                    });
+                    let material = member.material.unwrap_or(default_material) as u32;
+                    world.spawn((
+                        InstancedMesh {
+                            triangles: Arc::clone(triangles),
+                            object_to_world: to_world,
+                        },
+                        SurfaceMaterial(material),
+                    ));
+                }
+                continue;
+            }
             Geometry::TriangleMesh {
                 positions,
                 normals,
@@ -191,13 +238,14 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                 intensity,
                 cone_angle,
                 cone_delta_angle,
+                falloff,
             } => {
                 world.spawn(SpotLight::new(
                     *position,
                     *direction,
                     *intensity,
-                    *cone_angle,
-                    *cone_delta_angle,
+                    (*cone_angle, *cone_delta_angle),
+                    *falloff,
                 ));
             }
             LightDesc::Distant {
@@ -396,6 +444,9 @@ fn material(desc: &MaterialDesc) -> Material {
             tables: CoatingTables::of(clamp_alpha(*alpha), *ior),
         },
         MaterialDesc::Null => Material::Null,
+        MaterialDesc::OneSided { material } => Material::OneSided {
+            material: *material,
+        },
         MaterialDesc::Mix {
             first,
             second,

@@ -16,6 +16,7 @@ use glam::{Affine3A, Mat4, Vec2, Vec3};
 
 use crate::camera::{CameraType, pinhole};
 use crate::settings::IntegratorKind;
+pub use crate::light::spot::SpotFalloff;
 pub use crate::texture::TextureGraph;
 
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
@@ -87,6 +88,9 @@ pub struct SceneDesc {
     pub max_depth: Option<u32>,
     /// The integrator the scene asks for, where foton has it (the command line overrides it).
     pub integrator: Option<IntegratorKind>,
+    /// Emitters seen directly from the camera (also through null surfaces) render black
+    /// (Mitsuba's `hide_emitters`).
+    pub hide_emitters: bool,
     pub filter: FilterDesc,
     /// Decoded images, referred to by the texture graph's image nodes and by lights.
     pub textures: Vec<ImageTexture>,
@@ -95,6 +99,9 @@ pub struct SceneDesc {
     pub texture_graph: TextureGraph,
     pub materials: Vec<MaterialDesc>,
     pub shapes: Vec<ShapeDesc>,
+    /// Groups of shapes declared once (in the group's space) and placed by
+    /// [`Geometry::Instance`] shapes (Mitsuba's `shapegroup`).
+    pub shape_groups: Vec<Vec<ShapeDesc>>,
     pub lights: Vec<LightDesc>,
     /// Warnings met while loading, in file order.
     pub warnings: Vec<SceneWarning>,
@@ -128,6 +135,7 @@ impl SceneDesc {
             pixel_samples: None,
             max_depth: None,
             integrator: None,
+            hide_emitters: false,
             filter: FilterDesc {
                 kind: FilterKind::Box,
                 radius: Vec2::splat(0.5),
@@ -136,6 +144,7 @@ impl SceneDesc {
             texture_graph: TextureGraph::default(),
             materials: Vec::new(),
             shapes: Vec::new(),
+            shape_groups: Vec::new(),
             lights: Vec::new(),
             warnings: Vec::new(),
             notes: Vec::new(),
@@ -316,6 +325,9 @@ pub enum MaterialDesc {
         second: MaterialId,
         amount: f32,
     },
+    /// `material` seen from the side its surface's normal faces, black from the back (Mitsuba's
+    /// reflecting BSDFs outside `twosided`). Any other material scatters from both sides.
+    OneSided { material: MaterialId },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -333,6 +345,9 @@ pub enum Geometry {
     },
     /// The course's infinite plane through the object-space origin.
     Plane { normal: Vec3 },
+    /// A placed copy of `SceneDesc::shape_groups[group]`, each member with its own material; its
+    /// meshes are shared (built once, placed by a second BVH level), not copied.
+    Instance { group: usize },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -365,7 +380,7 @@ impl ShapeDesc {
                 let scale = (m.x_axis.length() * m.y_axis.length() * m.z_axis.length()).cbrt();
                 4.0 * PI * (radius * scale).powi(2)
             }
-            Geometry::Plane { .. } => f32::INFINITY,
+            Geometry::Plane { .. } | Geometry::Instance { .. } => f32::INFINITY,
         }
     }
 }
@@ -389,6 +404,8 @@ pub enum LightDesc {
         /// Full cone half-angle (`coneangle`) and the width of its falloff (`conedeltaangle`), degrees.
         cone_angle: f32,
         cone_delta_angle: f32,
+        /// The curve across the falloff band (LuxRender's and Mitsuba's differ).
+        falloff: SpotFalloff,
     },
     /// Light arriving from `direction_to_light` (unit, world space) with radiance `radiance`.
     Distant {

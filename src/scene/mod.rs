@@ -11,15 +11,38 @@ use std::path::Path;
 
 use desc::{Location, SceneDesc, SceneError};
 
-/// Reads a scene file, and the files it names, into a description.
-pub type Loader = fn(&Path) -> Result<SceneDesc, SceneError>;
+/// Reads a scene file, and the files it names, into a description; the pairs are the command
+/// line's `-D name=value` scene parameters.
+pub type Loader = fn(&Path, &[(String, String)]) -> Result<SceneDesc, SceneError>;
 
 /// Every scene format: the file extensions it takes (lower case, without the dot) and its
 /// loader. One line per format.
-pub const LOADERS: &[(&[&str], Loader)] = &[(&["lxs"], lxs::load), (&["xml"], mitsuba::load)];
+pub const LOADERS: &[(&[&str], Loader)] = &[
+    (&["lxs"], load_without_parameters),
+    (&["xml"], mitsuba::load_with),
+];
 
 /// Loads the scene at `path` with the loader its extension names (in any case).
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
+    load_with(path, &[])
+}
+
+/// A LuxRender scene, which has no parameters: each `-D` is a warning.
+fn load_without_parameters(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<SceneDesc, SceneError> {
+    let mut desc = lxs::load(path)?;
+    desc.warnings
+        .extend(defines.iter().map(|(name, value)| desc::SceneWarning {
+            location: Location::line(path, 0),
+            message: format!("-D {name}={value}: this format has no scene parameters, ignored"),
+        }));
+    Ok(desc)
+}
+
+/// [`load`] with `-D name=value` scene parameters (Mitsuba's `$name`).
+pub fn load_with(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc, SceneError> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())
@@ -29,7 +52,7 @@ pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
         .find(|(extensions, _)| extensions.contains(&extension.as_str()))
         .map(|(_, loader)| loader);
     match loader {
-        Some(loader) => loader(path),
+        Some(loader) => loader(path, defines),
         None => {
             let known: Vec<String> = LOADERS
                 .iter()

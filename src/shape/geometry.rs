@@ -2,12 +2,13 @@
 //! shade stage needs per primitive. Only what the scene has is stored: no uv arrays without
 //! textures, no shading normals where no mesh has any.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};
 
-use super::{AreaEmitter, Plane, Sphere, SurfaceMaterial, TriangleMesh};
+use super::{AreaEmitter, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh};
 use crate::accel::{
     Accel, MeshInstance, PassThrough, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives,
     SphereInstance,
@@ -37,8 +38,7 @@ pub struct SceneGeometry {
     pub triangle_uvs: Vec<[Vec2; 3]>,
     pub spheres: Vec<SphereShape>,
     pub planes: Vec<Plane>,
-    /// Shared meshes (object-space triangles) and their placed copies; empty until the scene
-    /// builder spawns instances.
+    /// Shared meshes (object-space triangles) and their placed copies.
     pub meshes: Vec<Vec<[Vec3; 3]>>,
     pub instances: Vec<MeshInstance>,
     /// Material index of each primitive, by id.
@@ -73,6 +73,7 @@ pub fn build_scene_geometry(
     meshes: Query<ShapeQuery<TriangleMesh>>,
     spheres: Query<ShapeQuery<Sphere>>,
     planes: Query<ShapeQuery<Plane>>,
+    instanced: Query<(&InstancedMesh, &SurfaceMaterial)>,
     needs: Res<GeometryNeeds>,
     materials: Res<MaterialTable>,
     mut commands: Commands,
@@ -143,6 +144,36 @@ pub fn build_scene_geometry(
         plane_shapes.push(*plane);
     }
 
+    // Instance triangles take the ids after the planes, instance by instance (`PrimitiveIds`).
+    // Instanced meshes emit no light.
+    let mut meshes: Vec<Vec<[Vec3; 3]>> = Vec::new();
+    let mut mesh_of: HashMap<*const Vec<[Vec3; 3]>, u32> = HashMap::new();
+    let mut instances = Vec::new();
+    for (instance, surface) in &instanced {
+        let shared = &instance.triangles;
+        let mesh = *mesh_of.entry(Arc::as_ptr(shared)).or_insert_with(|| {
+            meshes.push(shared.as_ref().clone());
+            (meshes.len() - 1) as u32
+        });
+        instances.push(MeshInstance {
+            mesh,
+            object_to_world: instance.object_to_world,
+        });
+        material.extend(std::iter::repeat_n(surface.0, shared.len()));
+        emitter.extend(std::iter::repeat_n(NO_EMITTER, shared.len()));
+    }
+    let instanced_points = instances.iter().flat_map(|instance| {
+        let to_world = instance.object_to_world;
+        meshes[instance.mesh as usize]
+            .iter()
+            .flatten()
+            .map(move |p| to_world.transform_point3(*p))
+    });
+    let (bounds_centre, bounds_radius) = bounding_sphere(
+        triangles.iter().flatten().copied().chain(instanced_points),
+        &sphere_shapes,
+    );
+
     let primitives = Primitives {
         triangles: triangles.clone(),
         spheres: sphere_shapes
@@ -159,8 +190,8 @@ pub fn build_scene_geometry(
                 normal: p.normal,
             })
             .collect(),
-        meshes: Vec::new(),
-        instances: Vec::new(),
+        meshes,
+        instances,
     };
     let ids = PrimitiveIds::new(&primitives);
     let emissive_shapes = (emitters.into_iter())
@@ -172,7 +203,6 @@ pub fn build_scene_geometry(
             radiance,
         })
         .collect();
-    let (bounds_centre, bounds_radius) = bounding_sphere(&triangles, &sphere_shapes);
     let pass_through = PassThrough::new(ids.count(), |id| {
         (material.get(id as usize)).is_some_and(|&m| materials.is_null(m))
     });
@@ -217,13 +247,14 @@ enum EmitterPrimitives {
     Sphere(usize),
 }
 
-/// A sphere around every bounded primitive (planes are unbounded and left out).
-fn bounding_sphere(triangles: &[[Vec3; 3]], spheres: &[SphereShape]) -> (Vec3, f32) {
+/// A sphere around every bounded primitive (planes are unbounded and left out): the triangles'
+/// world-space vertices and the spheres.
+fn bounding_sphere(vertices: impl Iterator<Item = Vec3>, spheres: &[SphereShape]) -> (Vec3, f32) {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for p in triangles.iter().flatten() {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
+    for p in vertices {
+        lo = lo.min(p);
+        hi = hi.max(p);
     }
     for s in spheres {
         let centre = Vec3::from(s.object_to_world.translation);

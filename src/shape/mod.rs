@@ -5,6 +5,8 @@
 pub mod geometry;
 pub mod surface;
 
+use std::sync::Arc;
+
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};
 
@@ -15,6 +17,14 @@ pub struct TriangleMesh {
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<Vec2>>,
     pub indices: Vec<[u32; 3]>,
+}
+
+/// A placed copy of a shared mesh (its triangles in object space): every instance of one mesh
+/// holds the same `Arc`, and the BVH builds that mesh's tree once (`accel::instances`).
+#[derive(Component, Clone, Debug)]
+pub struct InstancedMesh {
+    pub triangles: Arc<Vec<[Vec3; 3]>>,
+    pub object_to_world: Affine3A,
 }
 
 /// A sphere of `radius` around its object-space origin.

@@ -7,7 +7,9 @@ use glam::Vec3;
 use super::params::ParamList;
 use super::parser::Parser;
 use crate::film::luminance;
-use crate::scene::desc::{AreaLightDesc, ColorParam, LightDesc, SceneError, ShapeDesc};
+use crate::scene::desc::{
+    AreaLightDesc, ColorParam, LightDesc, SceneError, ShapeDesc, SpotFalloff,
+};
 use crate::texture::{ShadingPoint, TexParam, TextureNode};
 
 /// `AreaLightSource "area"` as written; it becomes a radiance once the shape's area is known.
@@ -95,6 +97,7 @@ impl Parser {
                     intensity: l * (gain * power_factor(power, efficacy, flux_per_gain)),
                     cone_angle,
                     cone_delta_angle,
+                    falloff: SpotFalloff::SmoothCosine,
                 }
             }
             "distant" => LightDesc::Distant {

@@ -206,6 +206,8 @@ impl Parser {
                 );
                 sphere
             }
+            // This loader places no instances.
+            instance @ Geometry::Instance { .. } => instance,
         }
     }
 }

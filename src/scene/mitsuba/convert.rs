@@ -18,12 +18,8 @@ use crate::scene::desc::{
     TextureId, ToneMap,
 };
 
-/// Reads the Mitsuba scene at `path` (the loader registered for `.xml` in `scene::LOADERS`).
-pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
-    load_with(path, &[])
-}
-
-/// Reads the Mitsuba scene at `path` with `-D name=value` parameters `defines`.
+/// Reads the Mitsuba scene at `path` with `-D name=value` parameters `defines` (the loader
+/// registered for `.xml` in `scene::LOADERS`).
 pub fn load_with(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc, SceneError> {
     let tree = super::parse_file(path, defines).map_err(|e| SceneError {
         location: location(&e.loc),
@@ -49,8 +45,7 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
         desc: SceneDesc::empty(location(&root.loc)),
         materials: HashMap::new(),
         textures: HashMap::new(),
-        within_twosided: 0,
-        one_sided: None,
+        shape_groups: HashMap::new(),
     };
     cx.desc
         .warnings
@@ -101,14 +96,6 @@ pub fn to_scene(tree: &SceneTree) -> Result<SceneDesc, SceneError> {
         }
     }
     cx.report_unused(root);
-    if let Some(loc) = cx.one_sided.take() {
-        cx.warn(
-            &loc,
-            "diffuse outside twosided is one-sided in Mitsuba (black from the back); foton shades \
-             it from both sides (this and every other one-sided diffuse BSDF)"
-                .into(),
-        );
-    }
     Ok(cx.desc)
 }
 
@@ -122,10 +109,8 @@ pub struct Converter<'a> {
     /// BSDF objects already converted (a `ref` shares one material).
     pub materials: HashMap<ObjectId, MaterialId>,
     pub textures: HashMap<ObjectId, TextureId>,
-    /// How many `twosided` BSDFs enclose the one being converted.
-    pub within_twosided: usize,
-    /// The first one-sided diffuse BSDF, reported once.
-    pub one_sided: Option<SourceLoc>,
+    /// `shapegroup`s already converted: their index in `SceneDesc::shape_groups`.
+    pub shape_groups: HashMap<ObjectId, usize>,
 }
 
 impl Converter<'_> {
@@ -318,12 +303,7 @@ impl Converter<'_> {
                     .into(),
             );
         }
-        if self.bool(integrator, "hide_emitters", false) {
-            self.warn(
-                &integrator.loc,
-                "hide_emitters not supported: emitters stay visible".into(),
-            );
-        }
+        self.desc.hide_emitters = self.bool(integrator, "hide_emitters", false);
         self.report_unused(integrator);
     }
 
@@ -474,20 +454,40 @@ impl Converter<'_> {
                 self.report_unused(rfilter);
                 gaussian_filter(stddev)
             }
-            other => {
-                // A tent of radius r has variance r^2 / 6: a Gaussian of that variance.
-                let other = other.to_string();
+            // Mitsuba's `tent`: max(0, 1 - |x| / radius), foton's triangle.
+            "tent" => {
                 let radius = self.float(rfilter, "radius", 1.0);
+                self.report_unused(rfilter);
+                FilterDesc {
+                    kind: FilterKind::Triangle,
+                    radius: Vec2::splat(radius.max(1e-3)),
+                }
+            }
+            // Mitsuba's `mitchell` (B, C default 1/3) and `catmullrom` (B 0, C 1/2): the cubic
+            // k(|x|) over radius 2 (`rfilters/mitchell.cpp`), which is foton's Mitchell at
+            // radius 2 (it evaluates k(2 |x| / radius)).
+            "mitchell" | "catmullrom" => {
+                let (b, c) = if rfilter.plugin == "mitchell" {
+                    (
+                        self.float(rfilter, "B", 1.0 / 3.0),
+                        self.float(rfilter, "C", 1.0 / 3.0),
+                    )
+                } else {
+                    (0.0, 0.5)
+                };
+                self.report_unused(rfilter);
+                FilterDesc {
+                    kind: FilterKind::Mitchell { b, c },
+                    radius: Vec2::splat(2.0),
+                }
+            }
+            other => {
+                let other = other.to_string();
                 self.warn(
                     &rfilter.loc,
-                    format!(
-                        "rfilter \"{other}\" approximated by a Gaussian of the tent's variance"
-                    ),
+                    format!("rfilter \"{other}\" not supported: Mitsuba's default Gaussian used"),
                 );
-                self.report_unused(rfilter);
-                let mut f = gaussian_filter(radius / 6f32.sqrt());
-                f.radius = Vec2::splat(radius.max(0.5));
-                f
+                gaussian_filter(0.5)
             }
         }
     }

@@ -6,7 +6,7 @@ use glam::{DMat4, Mat3, Mat4, Vec3};
 
 use super::convert::Converter;
 use super::tree::Object;
-use crate::scene::desc::{AreaLightDesc, ImageTexture, LightDesc, SceneError};
+use crate::scene::desc::{AreaLightDesc, ImageTexture, LightDesc, SceneError, SpotFalloff};
 use crate::scene::io::image as images;
 use std::sync::Arc;
 
@@ -51,12 +51,6 @@ pub fn emitter(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
         "spot" => {
             let cutoff = cx.float(object, "cutoff_angle", 20.0);
             let beam = cx.float(object, "beam_width", cutoff * 0.75).min(cutoff);
-            cx.warn(
-                &loc,
-                "spot: the falloff between beam_width and cutoff_angle follows foton's curve, not \
-                 Mitsuba's linear ramp in angle"
-                    .into(),
-            );
             LightDesc::Spot {
                 position: to_world.transform_point3(glam::DVec3::ZERO).as_vec3(),
                 direction: to_world
@@ -66,6 +60,7 @@ pub fn emitter(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
                 intensity: cx.rgb(object, "intensity", Vec3::ONE),
                 cone_angle: cutoff,
                 cone_delta_angle: cutoff - beam,
+                falloff: SpotFalloff::LinearAngle,
             }
         }
         "directional" => {

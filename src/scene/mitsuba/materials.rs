@@ -1,8 +1,8 @@
-//! Mitsuba BSDFs and textures as foton materials and image textures. Exact: `diffuse` (seen from
-//! the front), `twosided`, `dielectric`, `roughdielectric` (GGX), `thindielectric`, `plastic`,
-//! `roughplastic` (GGX), `conductor` with material `none`, `roughconductor` (GGX, material
-//! `none`), `null`, `checkerboard`, `bitmap`. Approximated with a warning: named conductors
-//! (Fresnel at normal incidence), `principled`, and Beckmann roughness.
+//! Mitsuba BSDFs and textures as foton materials and image textures. Exact: `diffuse` (one-sided,
+//! as every reflecting BSDF outside `twosided`), `twosided`, `dielectric`, `roughdielectric`
+//! (GGX), `thindielectric`, `plastic`, `roughplastic` (GGX), `conductor` with material `none`,
+//! `roughconductor` (GGX, material `none`), `null`, `checkerboard`, `bitmap`. Approximated with a
+//! warning: named conductors (Fresnel at normal incidence), `principled`, and Beckmann roughness.
 
 use std::sync::Arc;
 
@@ -17,13 +17,30 @@ use crate::scene::desc::{
 use crate::scene::io::image as images;
 use crate::texture::{Mapping2D, TextureNode};
 
-/// Mitsuba's default surface: diffuse, reflectance 0.5.
+/// Mitsuba's default surface: diffuse, reflectance 0.5 (one-sided, as every `diffuse`).
 pub fn default_material(cx: &mut Converter) -> MaterialId {
-    push(
+    one_sided_diffuse(cx, 0.5)
+}
+
+/// A one-sided diffuse BSDF of `reflectance`; Mitsuba gives an emitting shape without a BSDF a
+/// black one (`Shape::Shape`: `if (m_emitter) props2.set("reflectance", 0.f)`).
+pub fn one_sided_diffuse(cx: &mut Converter, reflectance: f32) -> MaterialId {
+    let diffuse = push(
         cx,
         MaterialDesc::Diffuse {
-            reflectance: ColorParam::Constant(Vec3::splat(0.5)),
+            reflectance: ColorParam::Constant(Vec3::splat(reflectance)),
         },
+    );
+    push(cx, MaterialDesc::OneSided { material: diffuse })
+}
+
+/// Mitsuba's BSDFs that only reflect are black from the back (their `eval` and `sample` need
+/// cos theta > 0 on both sides) unless wrapped in `twosided`; dielectrics and `null` are
+/// two-sided by nature.
+fn is_one_sided(plugin: &str) -> bool {
+    matches!(
+        plugin,
+        "diffuse" | "conductor" | "roughconductor" | "plastic" | "roughplastic" | "principled"
     )
 }
 
@@ -44,10 +61,13 @@ pub fn bsdf(cx: &mut Converter, object: &Object) -> Result<MaterialId, SceneErro
         return Ok(id);
     }
     let material = convert(cx, object)?;
-    let id = match material {
+    let mut id = match material {
         Converted::New(m) => push(cx, m),
         Converted::Existing(id) => id,
     };
+    if is_one_sided(&object.plugin) {
+        id = push(cx, MaterialDesc::OneSided { material: id });
+    }
     cx.report_unused(object);
     cx.materials.insert(key, id);
     Ok(id)
@@ -193,14 +213,9 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
     let tree = cx.tree;
     let loc = object.loc.clone();
     Ok(Converted::New(match object.plugin.as_str() {
-        "diffuse" => {
-            if cx.within_twosided == 0 && cx.one_sided.is_none() {
-                cx.one_sided = Some(loc);
-            }
-            MaterialDesc::Diffuse {
-                reflectance: cx.color(object, "reflectance", Vec3::splat(0.5)),
-            }
-        }
+        "diffuse" => MaterialDesc::Diffuse {
+            reflectance: cx.color(object, "reflectance", Vec3::splat(0.5)),
+        },
         "twosided" | "mask" | "bumpmap" | "normalmap" => {
             let nested: Vec<_> = object
                 .children_tagged(tree, "bsdf")
@@ -230,14 +245,16 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
                     child.used.set(true);
                 }
             }
-            let twosided = usize::from(object.plugin == "twosided");
-            cx.within_twosided += twosided;
             let inner = match nested.first() {
-                Some(inner) => bsdf(cx, inner),
-                None => Ok(default_material(cx)),
+                Some(inner) => bsdf(cx, inner)?,
+                None => default_material(cx),
             };
-            cx.within_twosided -= twosided;
-            return inner.map(Converted::Existing);
+            // `twosided` shows its BSDF's front on both sides: the material without its side.
+            let inner = match (object.plugin.as_str(), &cx.desc.materials[inner]) {
+                ("twosided", MaterialDesc::OneSided { material }) => *material,
+                _ => inner,
+            };
+            return Ok(Converted::Existing(inner));
         }
         "dielectric" | "roughdielectric" | "thindielectric" => {
             let int = ior(cx, object, "int_ior", 1.5046);

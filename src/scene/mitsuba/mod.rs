@@ -16,7 +16,7 @@ pub mod transform;
 pub mod tree;
 pub mod upgrade;
 
-pub use convert::{load, load_with};
+pub use convert::load_with;
 pub use error::{MitsubaError, MitsubaWarning, SourceLoc};
 pub use parser::{parse_file, parse_str};
 pub use tree::{Object, ObjectId, SceneTree, Value};

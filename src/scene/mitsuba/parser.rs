@@ -3,7 +3,7 @@
 //! `<include>`, `<path>`, `<alias>`, `<ref>`, typed properties and `<transform>` blocks.
 
 use std::cell::Cell;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -63,6 +63,7 @@ pub fn parse_str(
         ids: HashMap::new(),
         id_locs: HashMap::new(),
         params: defines.to_vec(),
+        used_params: HashSet::new(),
         search_paths: vec![dir],
         warnings,
         refs: Vec::new(),
@@ -88,6 +89,17 @@ pub fn parse_str(
         parser.element(child, scene, 1, path)?;
     }
     parser.resolve_refs()?;
+    // Mitsuba 3.9 refuses a parameter the scene never reads ("Found unused parameters"); foton
+    // warns and renders, as for any other unknown name.
+    let scene_start = SourceLoc::new(&file, 1, 1);
+    for (name, value) in defines {
+        if !parser.used_params.contains(name) {
+            parser.warn(
+                &scene_start,
+                format!("-D {name}={value}: the scene reads no parameter \"${name}\", ignored"),
+            );
+        }
+    }
     Ok(SceneTree {
         objects: parser.objects,
         root: scene,
@@ -103,6 +115,8 @@ struct Parser {
     /// Where each id was given, for the duplicate-id error.
     id_locs: HashMap<String, SourceLoc>,
     params: Vec<(String, String)>,
+    /// The parameters some `$name` read (the others given with -D are reported).
+    used_params: HashSet<String>,
     search_paths: Vec<PathBuf>,
     warnings: Vec<MitsubaWarning>,
     /// `<ref>`s to resolve once every object is known: (parent, index in its children, id).
@@ -138,7 +152,7 @@ impl Parser {
 
     /// Replaces `$name` in every attribute, longest names first (so that `$spp2` is not read as
     /// `$spp` followed by `2`). A `$` left over is an error.
-    fn substitute(&self, el: &mut Element) -> Result<(), MitsubaError> {
+    fn substitute(&mut self, el: &mut Element) -> Result<(), MitsubaError> {
         if !el.attrs.iter().any(|(_, v)| v.contains('$')) {
             return Ok(());
         }
@@ -149,7 +163,11 @@ impl Parser {
                 continue;
             }
             for (name, replacement) in &params {
-                *value = value.replace(&format!("${name}"), replacement);
+                let reference = format!("${name}");
+                if value.contains(&reference) {
+                    *value = value.replace(&reference, replacement);
+                    self.used_params.insert(name.to_string());
+                }
             }
             if value.contains('$') {
                 return Err(MitsubaError::new(

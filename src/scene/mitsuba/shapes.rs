@@ -10,7 +10,7 @@ use glam::{DMat4, DVec3, Vec2, Vec3};
 use super::convert::{Converter, location};
 use super::tree::Object;
 use super::{emitters, materials};
-use crate::scene::desc::{Geometry, SceneError, ShapeDesc};
+use crate::scene::desc::{Geometry, SceneError, SceneWarning, ShapeDesc};
 use crate::scene::io::ply;
 use crate::scene::io::{TriangleMesh, obj, serialized};
 
@@ -83,6 +83,12 @@ pub fn shape(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
             to_world *= frame;
             cylinder()
         }
+        // Converted where an instance names it; alone it renders nothing, as in Mitsuba.
+        "shapegroup" => {
+            object.prop("id");
+            return Ok(());
+        }
+        "instance" => return instance(cx, object, to_world),
         other => {
             let other = other.to_string();
             cx.warn(&loc, format!("shape \"{other}\" not supported, skipped"));
@@ -127,8 +133,10 @@ fn finish(
         .children_tagged(tree, "bsdf")
         .map(|(_, b)| b)
         .collect();
+    let shape_emitters: Vec<_> = object.children_tagged(tree, "emitter").collect();
     let material = match bsdfs.first() {
         Some(b) => materials::bsdf(cx, b)?,
+        None if !shape_emitters.is_empty() => materials::one_sided_diffuse(cx, 0.0),
         None => materials::default_material(cx),
     };
     if bsdfs.len() > 1 {
@@ -142,7 +150,7 @@ fn finish(
         );
     }
     let mut area_light = None;
-    for (_, emitter) in object.children_tagged(tree, "emitter") {
+    for (_, emitter) in shape_emitters {
         area_light = emitters::area(cx, emitter);
     }
     object.prop("id");
@@ -155,6 +163,86 @@ fn finish(
         location: location(&object.loc),
     });
     Ok(())
+}
+
+/// An `instance`: its `shapegroup` (given by `ref` or nested) placed by `to_world`.
+fn instance(cx: &mut Converter, object: &Object, to_world: DMat4) -> Result<(), SceneError> {
+    let tree = cx.tree;
+    let group = object
+        .children_tagged(tree, "shape")
+        .map(|(_, shape)| shape)
+        .find(|shape| shape.plugin == "shapegroup");
+    let Some(group) = group else {
+        cx.warn(&object.loc, "instance without a shapegroup, skipped".into());
+        return Ok(());
+    };
+    let group = shape_group(cx, group)?;
+    cx.report_unused(object);
+    cx.desc.shapes.push(ShapeDesc {
+        geometry: Geometry::Instance { group },
+        object_to_world: to_world.as_mat4(),
+        material: None,
+        area_light: None,
+        location: location(&object.loc),
+    });
+    Ok(())
+}
+
+/// The shapes of a `shapegroup` (converted once, shared by its instances), in the group's space.
+fn shape_group(cx: &mut Converter, group: &Object) -> Result<usize, SceneError> {
+    let tree = cx.tree;
+    let key = (tree.objects.iter())
+        .position(|o| std::ptr::eq(o, group))
+        .unwrap_or(usize::MAX);
+    if let Some(&id) = cx.shape_groups.get(&key) {
+        return Ok(id);
+    }
+    // Each member converts as a shape of the scene would, then moves into the group.
+    let first = cx.desc.shapes.len();
+    for (_, member) in group.children_tagged(tree, "shape") {
+        shape(cx, member)?;
+    }
+    let mut members: Vec<ShapeDesc> = cx.desc.shapes.drain(first..).collect();
+    for member in &mut members {
+        let mut unsupported = Vec::new();
+        if member.area_light.take().is_some() {
+            unsupported.push("its emitter is ignored");
+        }
+        if has_smooth_normals(&member.geometry) {
+            unsupported.push("instanced meshes are shaded with face normals");
+        }
+        if !unsupported.is_empty() {
+            cx.desc.warnings.push(SceneWarning {
+                location: member.location.clone(),
+                message: format!("shape in a shapegroup: {}", unsupported.join("; ")),
+            });
+        }
+    }
+    cx.report_unused(group);
+    cx.desc.shape_groups.push(members);
+    let id = cx.desc.shape_groups.len() - 1;
+    cx.shape_groups.insert(key, id);
+    Ok(id)
+}
+
+/// Whether a mesh's vertex normals differ from its faces' (instances keep face normals only).
+fn has_smooth_normals(geometry: &Geometry) -> bool {
+    let Geometry::TriangleMesh {
+        positions,
+        normals: Some(normals),
+        indices,
+        ..
+    } = geometry
+    else {
+        return false;
+    };
+    indices.iter().any(|&[a, b, c]| {
+        let p = |i: u32| positions[i as usize];
+        let face = (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero();
+        [a, b, c]
+            .iter()
+            .any(|&i| normals[i as usize].normalize_or_zero().dot(face) < 0.999)
+    })
 }
 
 fn ply_mesh(path: &std::path::Path) -> Result<TriangleMesh, String> {

@@ -354,3 +354,54 @@ fn sampled_spectra_match_mitsuba() {
         );
     }
 }
+
+#[test]
+fn reconstruction_filters_are_mitsubas() {
+    use crate::scene::desc::FilterKind;
+    let filter = |rfilter: &str| {
+        let tree = scene(&format!(
+            "<sensor type=\"perspective\"><film type=\"hdrfilm\">{rfilter}</film></sensor>"
+        ));
+        let desc = convert::to_scene(&tree).unwrap();
+        assert!(desc.warnings.is_empty(), "{rfilter}: {:?}", desc.warnings);
+        (desc.filter.kind, desc.filter.radius.x)
+    };
+    assert_eq!(
+        filter("<rfilter type=\"tent\"><float name=\"radius\" value=\"1.5\"/></rfilter>"),
+        (FilterKind::Triangle, 1.5)
+    );
+    assert_eq!(
+        filter("<rfilter type=\"tent\"/>"),
+        (FilterKind::Triangle, 1.0)
+    );
+    assert_eq!(
+        filter("<rfilter type=\"mitchell\"/>"),
+        (
+            FilterKind::Mitchell {
+                b: 1.0 / 3.0,
+                c: 1.0 / 3.0
+            },
+            2.0
+        )
+    );
+    assert_eq!(
+        filter(
+            "<rfilter type=\"mitchell\"><float name=\"B\" value=\"0.5\"/><float name=\"C\" value=\"0.25\"/></rfilter>"
+        ),
+        (FilterKind::Mitchell { b: 0.5, c: 0.25 }, 2.0)
+    );
+}
+
+#[test]
+fn unread_command_line_parameters_are_warnings() {
+    let text = "<scene version=\"3.0.0\"><default name=\"spp\" value=\"4\"/>\
+                <sampler type=\"independent\"><integer name=\"sample_count\" value=\"$spp\"/></sampler></scene>";
+    let defines = [
+        ("spp".to_string(), "8".to_string()),
+        ("sp".to_string(), "2".to_string()),
+    ];
+    let tree = parse_str(text, Path::new("t.xml"), &defines).unwrap();
+    let messages: Vec<_> = tree.warnings.iter().map(|w| w.message.clone()).collect();
+    assert_eq!(messages.len(), 1, "{messages:?}");
+    assert!(messages[0].contains("sp=2"), "{messages:?}");
+}
