@@ -189,40 +189,124 @@ impl Film {
     /// sample with a NaN, infinite or negative component, or for a pixel outside the film, is
     /// dropped and counted.
     pub fn add_sample(&mut self, pixel: u32, position: Vec2, radiance: Vec3) {
-        let valid = radiance.is_finite() && radiance.cmpge(Vec3::ZERO).all();
-        let Some(count) = self.counts.get_mut(pixel as usize).filter(|_| valid) else {
-            self.rejected += 1;
-            return;
+        self.add_samples(&[FilmSample {
+            pixel,
+            position,
+            radiance,
+        }]);
+    }
+
+    /// Adds `samples` as [`Film::add_sample`] would one after the other, in parallel over bands
+    /// of rows: each band takes every sample's share of its rows, in the order of `samples`, so
+    /// every pixel sums its contributions in the same order as the serial loop and the result is
+    /// the same to the bit whatever the number of bands or threads.
+    pub fn add_samples(&mut self, samples: &[FilmSample]) {
+        let width = self.width as usize;
+        let n = self.counts.len();
+        // The rows each sample touches: its footprint's and its own pixel's (which counts it).
+        let splat = self.splat.as_ref();
+        let span = |sample: &FilmSample| {
+            let home = sample.pixel as usize / width;
+            let (first, count) = splat.map_or((home, 1), |filter| {
+                footprint_span(sample.position.y, filter.radius.y, self.height)
+            });
+            (first.min(home), (first + count).max(home + 1))
         };
-        *count += 1;
-        let largest = radiance.max_element();
-        let radiance = match self.max_component {
-            Some(max) if largest > max => radiance * (max / largest),
-            _ => radiance,
+        if rayon::current_num_threads() == 1 || samples.len() < 2 * MIN_SAMPLES_PER_BAND {
+            // One band, all samples in order: no sorting.
+            let mut rows = FilmRows {
+                first_row: 0,
+                sums: &mut self.sums,
+                weights: &mut self.weights,
+                counts: &mut self.counts,
+                max_component: self.max_component,
+            };
+            let film_size = (self.width, self.height);
+            let rejected = (samples.iter())
+                .filter(|sample| {
+                    (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample)
+                })
+                .count();
+            self.rejected += rejected as u64;
+            return;
         }
-        .as_dvec3();
-        match &self.splat {
-            None => {
-                self.sums[pixel as usize] += radiance;
-                self.weights[pixel as usize] += 1.0;
+        // Rows per sample (an empty span for a pixel outside the film), and the rows of all.
+        let spans: Vec<(u32, u32)> = (samples.iter())
+            .map(|sample| {
+                if (sample.pixel as usize) < n {
+                    let (first, end) = span(sample);
+                    (first as u32, end as u32)
+                } else {
+                    (0, 0)
+                }
+            })
+            .collect();
+        let outside = spans.iter().filter(|(first, end)| first == end).count();
+        self.rejected += outside as u64;
+        let (first_row, end_row) = (spans.iter())
+            .filter(|(first, end)| first < end)
+            .fold((u32::MAX, 0), |(low, high), &(first, end)| {
+                (low.min(first), high.max(end))
+            });
+        let (first_row, end_row) = (first_row as usize, end_row as usize);
+        if first_row >= end_row {
+            return;
+        }
+        let rows = end_row - first_row;
+        let bands = (rayon::current_num_threads() * BANDS_PER_THREAD)
+            .min(samples.len() / MIN_SAMPLES_PER_BAND)
+            .clamp(1, rows);
+        let band_rows = rows.div_ceil(bands);
+        // Each band's samples, in their order: a counting sort of the sample indices by the
+        // bands they touch (one or a few each: bands are wider than most footprints).
+        let band_span = |&(first, end): &(u32, u32)| {
+            (first as usize - first_row) / band_rows..(end as usize - 1 - first_row) / band_rows + 1
+        };
+        let mut starts = vec![0; bands + 1];
+        for span in spans.iter().filter(|(first, end)| first < end) {
+            for band in band_span(span) {
+                starts[band + 1] += 1;
             }
-            Some(filter) => {
-                // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius.
-                let radius = filter.radius;
-                let (xs, wx) = footprint(position.x, radius.x, self.width, |d| filter.value(0, d));
-                let (ys, wy) = footprint(position.y, radius.y, self.height, |d| filter.value(1, d));
-                // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
-                // constant f(0, 0) cancels in sum / weight.
-                for (j, &fy) in wy.iter().enumerate().take(ys.1) {
-                    let row = (ys.0 + j) * self.width as usize;
-                    for (i, &fx) in wx.iter().enumerate().take(xs.1) {
-                        let w = f64::from(fx * fy);
-                        self.sums[row + xs.0 + i] += radiance * w;
-                        self.weights[row + xs.0 + i] += w;
-                    }
+        }
+        for band in 0..bands {
+            starts[band + 1] += starts[band];
+        }
+        let mut order = vec![0u32; starts[bands]];
+        let mut next = starts.clone();
+        for (i, span) in spans.iter().enumerate() {
+            if span.0 < span.1 {
+                for band in band_span(span) {
+                    order[next[band]] = i as u32;
+                    next[band] += 1;
                 }
             }
         }
+        let band_samples: Vec<&[u32]> = starts.windows(2).map(|w| &order[w[0]..w[1]]).collect();
+        let range = first_row * width..end_row * width;
+        let film_size = (self.width, self.height);
+        let max_component = self.max_component;
+        let rejected: u64 = (
+            self.sums[range.clone()].par_chunks_mut(band_rows * width),
+            self.weights[range.clone()].par_chunks_mut(band_rows * width),
+            self.counts[range].par_chunks_mut(band_rows * width),
+            band_samples,
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(|(band, (sums, weights, counts, indices))| {
+                let mut rows = FilmRows {
+                    first_row: first_row + band * band_rows,
+                    sums,
+                    weights,
+                    counts,
+                    max_component,
+                };
+                (indices.iter())
+                    .filter(|&&i| !rows.add(film_size, splat, &samples[i as usize]))
+                    .count() as u64
+            })
+            .sum();
+        self.rejected += rejected;
     }
 
     /// The estimate of every pixel (weighted sum over weight sum); black where nothing arrived.
@@ -251,6 +335,99 @@ impl Film {
     }
 }
 
+/// Bands of rows per thread in [`Film::add_samples`]: a few, so that a thread whose band gets
+/// fewer samples takes another.
+const BANDS_PER_THREAD: usize = 4;
+/// Samples below which a band is not worth a task.
+const MIN_SAMPLES_PER_BAND: usize = 1024;
+
+/// A radiance sample for the film: its pixel, its raster position, its radiance.
+#[derive(Clone, Copy, Debug)]
+pub struct FilmSample {
+    pub pixel: u32,
+    pub position: Vec2,
+    pub radiance: Vec3,
+}
+
+/// Consecutive whole rows of the film's sums, weights and counts, from `first_row`.
+struct FilmRows<'a> {
+    first_row: usize,
+    sums: &'a mut [DVec3],
+    weights: &'a mut [f64],
+    counts: &'a mut [u64],
+    /// The film's `--clamp` limit on a sample's largest component.
+    max_component: Option<f32>,
+}
+
+impl FilmRows<'_> {
+    /// Adds `sample`'s share of these rows: its weighted radiance in the pixels of these rows
+    /// under its footprint, and its count if its own pixel is here. Returns false if the sample
+    /// is invalid (NaN, infinite or negative) and its own pixel is here: the one band that
+    /// counts it as rejected.
+    fn add(
+        &mut self,
+        (width, height): (u32, u32),
+        splat: Option<&SplatFilter>,
+        sample: &FilmSample,
+    ) -> bool {
+        let w = width as usize;
+        let rows = self.first_row..self.first_row + self.counts.len() / w;
+        let pixel = sample.pixel as usize;
+        let home = rows.contains(&(pixel / w));
+        let valid = sample.radiance.is_finite() && sample.radiance.cmpge(Vec3::ZERO).all();
+        if !valid {
+            return !home;
+        }
+        let offset = self.first_row * w;
+        if home {
+            self.counts[pixel - offset] += 1;
+        }
+        let largest = sample.radiance.max_element();
+        let radiance = match self.max_component {
+            Some(max) if largest > max => sample.radiance * (max / largest),
+            _ => sample.radiance,
+        }
+        .as_dvec3();
+        match splat {
+            None => {
+                if home {
+                    self.sums[pixel - offset] += radiance;
+                    self.weights[pixel - offset] += 1.0;
+                }
+            }
+            Some(filter) => {
+                // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius.
+                let radius = filter.radius;
+                let position = sample.position;
+                let ys = footprint_span(position.y, radius.y, height);
+                let first = ys.0.max(rows.start);
+                let end = (ys.0 + ys.1).min(rows.end);
+                if first >= end {
+                    return true;
+                }
+                let (xs, wx) = footprint(position.x, radius.x, width, |d| filter.value(0, d));
+                if xs.1 == 0 {
+                    return true;
+                }
+                // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
+                // constant f(0, 0) cancels in sum / weight.
+                for y in first..end {
+                    let fy = filter.value(1, position.y - (y as f32 + 0.5));
+                    let row = (y - self.first_row) * w + xs.0;
+                    let sums = &mut self.sums[row..row + xs.1];
+                    let weights = &mut self.weights[row..row + xs.1];
+                    for ((sum, weight), &fx) in sums.iter_mut().zip(weights).zip(&wx) {
+                        let w = f64::from(fx * fy);
+                        *sum += radiance * w;
+                        *weight += w;
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
 /// The pixels along one axis whose centres lie within `radius` of `position`, as (first,
 /// count), and the filter's value at each.
 fn footprint(
@@ -259,16 +436,22 @@ fn footprint(
     size: u32,
     value: impl Fn(f32) -> f32,
 ) -> ((usize, usize), [f32; MAX_FOOTPRINT]) {
-    // ceil and floor by casts (which truncate towards zero), as in `SplatFilter::value`.
-    let (low, high) = (position - 0.5 - radius, position - 0.5 + radius);
-    let first = (low as i64 + i64::from((low as i64 as f32) < low)).max(0) as usize;
-    let last = (high as i64 - i64::from((high as i64 as f32) > high)).min(i64::from(size) - 1);
-    let count = (last + 1 - first as i64).clamp(0, MAX_FOOTPRINT as i64) as usize;
+    let (first, count) = footprint_span(position, radius, size);
     let mut weights = [0.0; MAX_FOOTPRINT];
     for (i, w) in weights.iter_mut().enumerate().take(count) {
         *w = value(position - ((first + i) as f32 + 0.5));
     }
     ((first, count), weights)
+}
+
+/// The pixels along one axis whose centres lie within `radius` of `position`, as (first, count).
+fn footprint_span(position: f32, radius: f32, size: u32) -> (usize, usize) {
+    // ceil and floor by casts (which truncate towards zero), as in `SplatFilter::value`.
+    let (low, high) = (position - 0.5 - radius, position - 0.5 + radius);
+    let first = (low as i64 + i64::from((low as i64 as f32) < low)).max(0) as usize;
+    let last = (high as i64 - i64::from((high as i64 as f32) > high)).min(i64::from(size) - 1);
+    let count = (last + 1 - first as i64).clamp(0, MAX_FOOTPRINT as i64) as usize;
+    (first, count)
 }
 
 #[cfg(test)]
@@ -290,6 +473,58 @@ mod tests {
         assert_eq!(film.rejected_samples(), 4);
         assert_eq!(film.samples_per_pixel_min(), 0);
         assert_eq!((film.width(), film.height()), (3, 2));
+    }
+
+    /// The banded parallel splatting against one sample at a time: the same sums, weights,
+    /// counts and rejections to the bit, for a filter wider than a pixel, invalid samples and
+    /// pixels outside the film, at several thread counts.
+    #[test]
+    fn parallel_splatting_matches_serial_to_the_bit() {
+        let (width, height) = (37, 53);
+        let mut rng = crate::sampling::PathRng::new(1, 2, 3);
+        let mut next = || rng.next_f32();
+        let samples: Vec<FilmSample> = (0..20_000)
+            .map(|i| {
+                let pixel = (next() * (width * height + 40) as f32) as u32;
+                let (x, y) = (pixel % width, pixel / width);
+                let mut radiance = Vec3::new(next(), next() * 10.0, next() * 1e-3);
+                if i % 997 == 0 {
+                    radiance.x = f32::NAN;
+                }
+                FilmSample {
+                    pixel,
+                    position: Vec2::new(x as f32 + next(), y as f32 + next()),
+                    radiance,
+                }
+            })
+            .collect();
+        let filter = PixelFilter::new(
+            crate::film::FilterKind::Gaussian { alpha: 2.0 },
+            Vec2::splat(2.0),
+        );
+        let mut serial = Film::new(width, height);
+        serial.splat_with(filter.clone());
+        for s in &samples {
+            serial.add_sample(s.pixel, s.position, s.radiance);
+        }
+        for threads in [1, 2, 3, 8] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut film = Film::new(width, height);
+            film.splat_with(filter.clone());
+            // In two batches, as two bounces would hand them over.
+            pool.install(|| {
+                film.add_samples(&samples[..12_000]);
+                film.add_samples(&samples[12_000..]);
+            });
+            assert_eq!(film.sums, serial.sums, "{threads} threads");
+            assert_eq!(film.weights, serial.weights, "{threads} threads");
+            assert_eq!(film.counts, serial.counts, "{threads} threads");
+            assert_eq!(film.rejected, serial.rejected, "{threads} threads");
+        }
+        assert!(serial.rejected > 20, "{}", serial.rejected);
     }
 
     #[test]

@@ -8,7 +8,7 @@ pub mod filter;
 pub mod output;
 pub mod tonemap;
 
-pub use film::{Film, Reconstruction};
+pub use film::{Film, FilmSample, Reconstruction};
 pub use filter::{FilterKind, PixelFilter};
 pub use output::{
     ImageMetadata, check_output, is_linear_output, read_exr, read_png_linear, write_image,

@@ -27,7 +27,8 @@ pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<Shadow
 }
 
 /// Finished paths add their radiance to the film (one sample at their film position, in slot
-/// order, so the sums do not depend on the thread count); the rest move to the front of the batch.
+/// order, so the sums do not depend on the thread count; the film splats them in parallel over
+/// bands of rows); the rest move to the front of the batch.
 pub fn retire_finished_paths(mut batch: ResMut<PathBatch>, mut film: ResMut<Film>) {
-    batch.retire(|pixel, position, radiance| film.add_sample(pixel, position, radiance));
+    batch.retire(|samples| film.add_samples(samples));
 }

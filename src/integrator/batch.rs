@@ -7,6 +7,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::accel::Hit;
+use crate::film::FilmSample;
 use crate::sampling::PathRng;
 
 /// Declares the per-path fields once; the batch, its spare columns (the target of compaction),
@@ -22,6 +23,8 @@ macro_rules! path_batch {
             /// Where compaction gathers the live paths to, swapped in afterwards.
             spare: SpareColumns,
             partition: Partition,
+            /// The film samples of the paths that finished, reused from bounce to bounce.
+            finished: Vec<FilmSample>,
         }
 
         #[derive(Default)]
@@ -92,20 +95,24 @@ path_batch! {
 }
 
 impl PathBatch {
-    /// Removes the finished paths, handing each to `finish` with its pixel, film position and
-    /// radiance (slot order, so that results do not depend on scheduling), and moves the live ones
-    /// to the front in their order. Returns how many live.
-    pub fn retire(&mut self, mut finish: impl FnMut(u32, Vec2, Vec3)) -> usize {
+    /// Removes the finished paths, handing them to `finish` as film samples (in slot order, so
+    /// that results do not depend on scheduling), and moves the live ones to the front in their
+    /// order. Returns how many live.
+    pub fn retire(&mut self, finish: impl FnOnce(&[FilmSample])) -> usize {
         let n = self.len;
         let live = self.partition.split(&self.alive[..n]);
-        for &slot in &self.partition.order[live..n] {
-            let slot = slot as usize;
-            finish(
-                self.pixel[slot],
-                self.film_position[slot],
-                self.radiance[slot],
-            );
-        }
+        self.finished.clear();
+        self.finished.par_extend(
+            self.partition.order[live..n]
+                .par_iter()
+                .with_min_len(GATHER_BLOCK)
+                .map(|&slot| FilmSample {
+                    pixel: self.pixel[slot as usize],
+                    position: self.film_position[slot as usize],
+                    radiance: self.radiance[slot as usize],
+                }),
+        );
+        finish(&self.finished);
         if live < n {
             self.gather_live(live);
         }
@@ -269,7 +276,9 @@ mod tests {
         }
         let expected_live: Vec<u32> = (0..n as u32).filter(|&i| batch.alive[i as usize]).collect();
         let mut finished = Vec::new();
-        let live = batch.retire(|pixel, _, radiance| finished.push((pixel, radiance)));
+        let live = batch.retire(|samples| {
+            finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
+        });
         assert_eq!(live, expected_live.len());
         assert_eq!(batch.len, live);
         assert_eq!(batch.pixel[..live], expected_live[..]);

@@ -36,6 +36,9 @@ pub struct SceneGeometry {
     pub triangle_normals: Vec<[Vec3; 3]>,
     /// Per-triangle vertex uvs; empty unless the scene samples textures.
     pub triangle_uvs: Vec<[Vec2; 3]>,
+    /// Whether the scene samples textures: without them a hit's uv is never read, and spheres
+    /// and planes skip computing theirs (an atan2 and an acos per sphere hit).
+    pub uvs: bool,
     pub spheres: Vec<SphereShape>,
     pub planes: Vec<Plane>,
     /// Shared meshes (object-space triangles) and their placed copies.
@@ -212,6 +215,7 @@ pub fn build_scene_geometry(
         triangles,
         triangle_normals,
         triangle_uvs,
+        uvs: needs.uvs,
         spheres: sphere_shapes,
         planes: plane_shapes,
         meshes: primitives.meshes,

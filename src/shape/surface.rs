@@ -38,9 +38,14 @@ impl SceneGeometry {
             PrimitiveRef::Plane(i) => {
                 let plane = &self.planes[i];
                 let n = plane.normal;
-                let (t, b) = n.any_orthonormal_pair();
-                let local = position - plane.point;
-                (n, n, Vec2::new(local.dot(t), local.dot(b)))
+                let uv = if self.uvs {
+                    let (t, b) = n.any_orthonormal_pair();
+                    let local = position - plane.point;
+                    Vec2::new(local.dot(t), local.dot(b))
+                } else {
+                    Vec2::ZERO
+                };
+                (n, n, uv)
             }
         };
         SurfacePoint {
@@ -83,6 +88,9 @@ impl SceneGeometry {
             .transpose()
             .mul_vec3(local)
             .normalize_or(Vec3::Z);
+        if !self.uvs {
+            return (n, n, Vec2::ZERO);
+        }
         let dir = local.normalize_or(Vec3::Z);
         let phi = dir.y.atan2(dir.x);
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
