@@ -62,7 +62,7 @@ fn shade_hit(
         path.add_radiance(*path.throughput * area.radiance());
     }
     let choice = path.rng.next_f32();
-    let Some(bsdf) = scene.bsdf_at(&surface, choice) else {
+    let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
         path.pass_through(&surface);
         return;
     };

@@ -7,7 +7,6 @@ use glam::{Affine3A, Mat3, Vec3};
 use super::desc::{
     ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ToneMap,
 };
-use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::camera::fisheye::FisheyeFit;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, CameraSetup, CameraType, default_screen_window};
@@ -18,6 +17,7 @@ use crate::light::infinite::InfiniteLight;
 use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
 use crate::material::texture::{self, TextureTable};
+use crate::material::bump::BumpMap;
 use crate::material::{Color, Material, MaterialTable};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
@@ -292,14 +292,10 @@ fn material(desc: &MaterialDesc) -> Material {
         MaterialDesc::RoughDiffuse {
             reflectance,
             sigma_degrees,
-        } => {
-            let (a, b) = oren_nayar_ab(*sigma_degrees);
-            Material::OrenNayar {
-                reflectance: color(reflectance),
-                a,
-                b,
-            }
-        }
+        } => Material::OrenNayar {
+            reflectance: color(reflectance),
+            sigma_degrees: color(sigma_degrees),
+        },
         MaterialDesc::CoatedDiffuse {
             diffuse,
             specular,
@@ -342,7 +338,18 @@ fn material(desc: &MaterialDesc) -> Material {
         } => Material::Mix {
             first: *first,
             second: *second,
-            amount: *amount,
+            amount: color(amount),
+        },
+        MaterialDesc::Bump {
+            material,
+            height,
+            sample_distance,
+        } => Material::Bump {
+            material: *material,
+            bump: BumpMap {
+                height: *height,
+                sample_distance: *sample_distance,
+            },
         },
     }
 }

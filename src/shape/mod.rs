@@ -4,6 +4,7 @@
 
 pub mod geometry;
 pub mod surface;
+pub mod uv_derivatives;
 
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};

@@ -351,7 +351,7 @@ fn mix(base: MaterialId, coat: MaterialId, eta: f32) -> MaterialDesc {
     MaterialDesc::Mix {
         first: base,
         second: coat,
-        amount: average_fresnel(eta),
+        amount: ColorParam::Constant(Vec3::splat(average_fresnel(eta))),
     }
 }
 
