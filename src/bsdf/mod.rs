@@ -19,7 +19,7 @@ pub mod oren_nayar;
 mod specular_reflection;
 
 pub use coated_glossy::CoatedGlossy;
-use conductor::Conductor;
+use conductor::{Conductor, ConductorFresnel};
 use dielectric::Dielectric;
 use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
@@ -45,6 +45,14 @@ pub enum Bsdf {
     /// [`microfacet::clamp_alpha`]).
     Conductor {
         f0: Vec3,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
+    /// A GGX conductor with the exact Fresnel of the complex index `eta` + i `k` (LuxRender's
+    /// `metal`).
+    MeasuredConductor {
+        eta: Vec3,
+        k: Vec3,
         alpha_x: f32,
         alpha_y: f32,
     },
@@ -100,7 +108,13 @@ impl Bsdf {
                 f0,
                 alpha_x,
                 alpha_y,
-            } => conductor(f0, alpha_x, alpha_y).eval(wo, wi),
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).eval(wo, wi),
+            Bsdf::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).eval(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
             Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
             Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => Vec3::ZERO,
@@ -120,7 +134,13 @@ impl Bsdf {
                 f0,
                 alpha_x,
                 alpha_y,
-            } => conductor(f0, alpha_x, alpha_y).pdf(wo, wi),
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).pdf(wo, wi),
+            Bsdf::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).pdf(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
             Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
             Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } => 0.0,
@@ -156,7 +176,13 @@ impl Bsdf {
                 f0,
                 alpha_x,
                 alpha_y,
-            } => conductor(f0, alpha_x, alpha_y).sample(wo, u),
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).sample(wo, u),
+            Bsdf::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).sample(wo, u),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
             Bsdf::CoatedGlossy(c) => c.sample(wo, u),
         }?;
@@ -190,6 +216,7 @@ impl Bsdf {
             }
             .albedo(),
             Bsdf::Conductor { f0, .. } => f0,
+            Bsdf::MeasuredConductor { eta, k, .. } => fresnel::fr_conductor(1.0, eta, k),
             Bsdf::OrenNayar { reflectance, .. } => reflectance,
             // The coating reflects about Ks; the base shows through the rest.
             Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,
@@ -197,9 +224,9 @@ impl Bsdf {
     }
 }
 
-fn conductor(f0: Vec3, alpha_x: f32, alpha_y: f32) -> Conductor {
+fn conductor(fresnel: ConductorFresnel, alpha_x: f32, alpha_y: f32) -> Conductor {
     Conductor {
-        f0,
+        fresnel,
         distribution: TrowbridgeReitz::new(alpha_x, alpha_y),
     }
 }
