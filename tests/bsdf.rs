@@ -210,7 +210,10 @@ fn measured_conductor_reflects_its_normal_incidence_fresnel() {
     let a = albedo(&smooth, Vec3::Z, 8, |_| 1.0);
     let expected = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
     println!("measured conductor head-on: {a} (closed form {expected})");
-    assert!((a - expected).abs().max_element() < 0.01, "{a} vs {expected}");
+    assert!(
+        (a - expected).abs().max_element() < 0.01,
+        "{a} vs {expected}"
+    );
     let perfect = Bsdf::MeasuredConductor {
         eta: Vec3::ONE,
         k: Vec3::splat(1e4),
@@ -218,7 +221,10 @@ fn measured_conductor_reflects_its_normal_incidence_fresnel() {
         alpha_y: 0.3,
     };
     let a = albedo(&perfect, Vec3::Z, 9, |_| 1.0).x;
-    assert!((0.872..=0.882).contains(&a), "perfect conductor, alpha 0.3: {a}");
+    assert!(
+        (0.872..=0.882).contains(&a),
+        "perfect conductor, alpha 0.3: {a}"
+    );
 }
 
 fn non_delta_bsdfs() -> Vec<Bsdf> {

@@ -5,8 +5,8 @@ mod common;
 
 use std::path::PathBuf;
 
-use foton::settings::IntegratorKind;
 use foton::scene::desc::SceneDesc;
+use foton::settings::IntegratorKind;
 
 /// Loads `world` (material and texture lines) over a 2 x 2 quad at z = 0 with uvs 0..1, lit
 /// straight down by a distant light and seen from above by a camera that sees only the quad.
@@ -70,13 +70,12 @@ fn a_bump_map_tilts_the_shading_normal_by_its_slope() {
 #[test]
 fn matte_sigma_from_a_texture() {
     let texture = r#"Texture "s" "float" "bilerp" "float v00" [30] "float v01" [30] "float v10" [30] "float v11" [30]"#;
-    let lambert = quad_scene(
-        "lambert",
-        "Material \"matte\" \"color Kd\" [0.5 0.5 0.5]",
-    );
+    let lambert = quad_scene("lambert", "Material \"matte\" \"color Kd\" [0.5 0.5 0.5]");
     let rough = quad_scene(
         "rough",
-        &format!("{texture}\nMaterial \"matte\" \"color Kd\" [0.5 0.5 0.5] \"texture sigma\" [\"s\"]"),
+        &format!(
+            "{texture}\nMaterial \"matte\" \"color Kd\" [0.5 0.5 0.5] \"texture sigma\" [\"s\"]"
+        ),
     );
     assert!(rough.warnings.is_empty(), "{:?}", rough.warnings);
     let s2 = 30f32.to_radians().powi(2);
@@ -84,7 +83,10 @@ fn matte_sigma_from_a_texture() {
     // The camera sees the quad up to 7 degrees off the normal; with the light along the normal
     // Oren-Nayar's B term vanishes (beta = 0), so the ratio is A everywhere.
     let ratio = mean_radiance(rough, 1) / mean_radiance(lambert, 1);
-    assert!((ratio - a).abs() < 2e-3, "Oren-Nayar / Lambert {ratio}, A = {a}");
+    assert!(
+        (ratio - a).abs() < 2e-3,
+        "Oren-Nayar / Lambert {ratio}, A = {a}"
+    );
 }
 
 /// mix's `amount` from a varying texture (0.25 everywhere): a quarter of white matte and three

@@ -68,7 +68,10 @@ mod tests {
         let (eta, k) = (Vec3::new(0.2, 1.1, 1.5), Vec3::new(3.0, 2.0, 0.0));
         let normal = fr_conductor(1.0, eta, k);
         let expected = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
-        assert!((normal - expected).abs().max_element() < 1e-5, "{normal} {expected}");
+        assert!(
+            (normal - expected).abs().max_element() < 1e-5,
+            "{normal} {expected}"
+        );
         assert!((fr_conductor(0.0, eta, k) - Vec3::ONE).abs().max_element() < 1e-5);
         for cos in [0.1, 0.4, 0.8] {
             let f = fr_conductor(cos, Vec3::splat(1.5), Vec3::ZERO);

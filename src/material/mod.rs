@@ -66,7 +66,10 @@ pub enum Material {
         amount: Color,
     },
     /// Material `material` with its shading normal perturbed by a bump map.
-    Bump { material: usize, bump: BumpMap },
+    Bump {
+        material: usize,
+        bump: BumpMap,
+    },
 }
 
 #[derive(Resource, Clone, Debug)]
@@ -135,7 +138,10 @@ impl MaterialTable {
                         id = *first;
                     }
                 }
-                Material::Bump { material, bump: map } => {
+                Material::Bump {
+                    material,
+                    bump: map,
+                } => {
                     bump(map, sp);
                     id = *material;
                 }

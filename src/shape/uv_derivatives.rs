@@ -18,11 +18,11 @@ impl SceneGeometry {
         };
         match kind {
             PrimitiveRef::Triangle(i) => {
-                let uvs = self
-                    .triangle_uvs
-                    .get(i)
-                    .copied()
-                    .unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]);
+                let uvs =
+                    self.triangle_uvs
+                        .get(i)
+                        .copied()
+                        .unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]);
                 triangle_derivatives(self.triangles[i], uvs)
             }
             // Instanced triangles carry barycentric uvs: p = p0 + u (p1 - p0) + v (p2 - p0).
@@ -120,7 +120,13 @@ mod tests {
         let (dpdu, dpdv) = sphere_derivatives(at(u, v));
         let fd_u = (at(u + h, v) - at(u - h, v)) / (2.0 * h);
         let fd_v = (at(u, v + h) - at(u, v - h)) / (2.0 * h);
-        assert!((dpdu - fd_u).length() < 1e-2 * fd_u.length(), "{dpdu} {fd_u}");
-        assert!((dpdv - fd_v).length() < 1e-2 * fd_v.length(), "{dpdv} {fd_v}");
+        assert!(
+            (dpdu - fd_u).length() < 1e-2 * fd_u.length(),
+            "{dpdu} {fd_u}"
+        );
+        assert!(
+            (dpdv - fd_v).length() < 1e-2 * fd_v.length(),
+            "{dpdv} {fd_v}"
+        );
     }
 }
