@@ -195,6 +195,38 @@ fn white_furnace_conductor() {
     assert!((0.84..=0.89).contains(&a), "anisotropic: {a}");
 }
 
+/// A nearly smooth conductor of complex index eta + i k seen head-on reflects its Fresnel
+/// reflectance at normal incidence, ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2) per channel; a
+/// perfect one (k large) conserves energy as the Schlick conductor with F0 = 1 does.
+#[test]
+fn measured_conductor_reflects_its_normal_incidence_fresnel() {
+    let (eta, k) = (Vec3::new(0.2, 1.1, 1.5), Vec3::new(3.0, 2.0, 0.0));
+    let smooth = Bsdf::MeasuredConductor {
+        eta,
+        k,
+        alpha_x: 0.001,
+        alpha_y: 0.001,
+    };
+    let a = albedo(&smooth, Vec3::Z, 8, |_| 1.0);
+    let expected = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
+    println!("measured conductor head-on: {a} (closed form {expected})");
+    assert!(
+        (a - expected).abs().max_element() < 0.01,
+        "{a} vs {expected}"
+    );
+    let perfect = Bsdf::MeasuredConductor {
+        eta: Vec3::ONE,
+        k: Vec3::splat(1e4),
+        alpha_x: 0.3,
+        alpha_y: 0.3,
+    };
+    let a = albedo(&perfect, Vec3::Z, 9, |_| 1.0).x;
+    assert!(
+        (0.872..=0.882).contains(&a),
+        "perfect conductor, alpha 0.3: {a}"
+    );
+}
+
 fn non_delta_bsdfs() -> Vec<Bsdf> {
     vec![
         Bsdf::Lambertian {
@@ -208,6 +240,12 @@ fn non_delta_bsdfs() -> Vec<Bsdf> {
             f0: Vec3::new(0.95, 0.64, 0.54),
             alpha_x: 0.4,
             alpha_y: 0.2,
+        },
+        Bsdf::MeasuredConductor {
+            eta: Vec3::new(0.2, 0.9, 1.4),
+            k: Vec3::new(3.9, 2.4, 1.6),
+            alpha_x: 0.3,
+            alpha_y: 0.15,
         },
         oren_nayar(Vec3::new(0.8, 0.5, 0.2), 20.0),
         oren_nayar(Vec3::ONE, 60.0),

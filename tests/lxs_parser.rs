@@ -418,7 +418,7 @@ fn materials_of_every_kind() {
             MaterialDesc::Mix {
                 first: 0,
                 second: 1,
-                amount: 0.25
+                amount: ColorParam::Constant(Vec3::splat(0.25))
             },
             // LuxRender's matte default Kd (`materials/matte.cpp`).
             MaterialDesc::Diffuse {
@@ -460,7 +460,7 @@ fn material_quirks_warn() {
         s.materials[0],
         MaterialDesc::RoughDiffuse {
             reflectance: ColorParam::Constant(Vec3::splat(0.9)),
-            sigma_degrees: 20.0,
+            sigma_degrees: ColorParam::Constant(Vec3::splat(20.0)),
         }
     );
     let w = messages(&s);

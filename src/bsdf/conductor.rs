@@ -5,21 +5,40 @@
 //!   f(wo, wi) = D(wh) G(wo, wi) F(wo . wh) / (4 |cos theta_o| |cos theta_i|)
 //!
 //! with wh = normalize(wo + wi), D the GGX distribution, G the
-//! height-correlated Smith term (see `microfacet.rs`), and F Schlick's
+//! height-correlated Smith term (see `microfacet.rs`), and F either Schlick's
 //! approximation with F0 = Kr, the colour the scene gives (LuxRender's
-//! metal2 takes a Fresnel texture; the course's scenes give a colour).
+//! metal2 takes a Fresnel texture; the course's scenes give a colour), or the
+//! exact conductor Fresnel of a complex index (LuxRender's `metal`).
 //! Sampling draws visible normals (Heitz 2018), so the estimator weight
 //! f |cos theta_i| / pdf = F G / G1(wo).
 
 use super::BsdfSample;
-use super::fresnel::schlick;
+use super::fresnel::{fr_conductor, schlick};
 use super::microfacet::TrowbridgeReitz;
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
 pub struct Conductor {
-    pub f0: Vec3,
+    pub fresnel: ConductorFresnel,
     pub distribution: TrowbridgeReitz,
+}
+
+/// A conductor's reflectance against the angle to the microfacet normal.
+#[derive(Clone, Copy, Debug)]
+pub enum ConductorFresnel {
+    /// Schlick's approximation from the reflectance at normal incidence.
+    Schlick(Vec3),
+    /// The complex index eta + i k, per channel.
+    Complex { eta: Vec3, k: Vec3 },
+}
+
+impl ConductorFresnel {
+    pub fn eval(&self, cos: f32) -> Vec3 {
+        match *self {
+            ConductorFresnel::Schlick(f0) => schlick(f0, cos),
+            ConductorFresnel::Complex { eta, k } => fr_conductor(cos, eta, k),
+        }
+    }
 }
 
 /// The half vector, if wo and wi are both in the upper hemisphere.
@@ -41,7 +60,7 @@ impl Conductor {
             return Vec3::ZERO;
         }
         let dg = self.distribution.d(wh) * self.distribution.g(wo, wi);
-        schlick(self.f0, wo.dot(wh)) * (dg / denom)
+        self.fresnel.eval(wo.dot(wh)) * (dg / denom)
     }
 
     /// The visible-normal density mapped through reflection, whose Jacobian

@@ -34,3 +34,48 @@ pub fn schlick(f0: Vec3, cos: f32) -> Vec3 {
     let m = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
     f0 + (Vec3::ONE - f0) * m
 }
+
+/// Unpolarised Fresnel reflectance of a conductor of complex relative index eta + i k, per
+/// channel (pbrt-v3 §8.2.1, `FrConductor`, after Born and Wolf): with s = sin^2, c = cos^2,
+/// a^2 + b^2 = sqrt((eta^2 - k^2 - s)^2 + 4 eta^2 k^2) and a = sqrt((a^2 + b^2 + eta^2 - k^2 - s)/2),
+///   Rs = (a^2 + b^2 + c - 2 a cos) / (a^2 + b^2 + c + 2 a cos),
+///   Rp = Rs (c (a^2 + b^2) + s^2 - 2 a cos s) / (c (a^2 + b^2) + s^2 + 2 a cos s),
+/// and F = (Rs + Rp) / 2. At normal incidence it is ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2).
+pub fn fr_conductor(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
+    let cos = cos_i.clamp(0.0, 1.0);
+    let (cos2, sin2) = (cos * cos, 1.0 - cos * cos);
+    let (eta2, k2) = (eta * eta, k * k);
+    let t0 = eta2 - k2 - Vec3::splat(sin2);
+    let a2_plus_b2 = (t0 * t0 + 4.0 * eta2 * k2).max(Vec3::ZERO).powf(0.5);
+    let t1 = a2_plus_b2 + Vec3::splat(cos2);
+    let a = (0.5 * (a2_plus_b2 + t0)).max(Vec3::ZERO).powf(0.5);
+    let t2 = 2.0 * cos * a;
+    let rs = (t1 - t2) / (t1 + t2);
+    let t3 = cos2 * a2_plus_b2 + Vec3::splat(sin2 * sin2);
+    let t4 = t2 * sin2;
+    let rp = rs * (t3 - t4) / (t3 + t4);
+    0.5 * (rp + rs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// At normal incidence the closed form; at grazing incidence total reflection; with k = 0 the
+    /// dielectric's reflectance.
+    #[test]
+    fn conductor_fresnel_known_values() {
+        let (eta, k) = (Vec3::new(0.2, 1.1, 1.5), Vec3::new(3.0, 2.0, 0.0));
+        let normal = fr_conductor(1.0, eta, k);
+        let expected = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
+        assert!(
+            (normal - expected).abs().max_element() < 1e-5,
+            "{normal} {expected}"
+        );
+        assert!((fr_conductor(0.0, eta, k) - Vec3::ONE).abs().max_element() < 1e-5);
+        for cos in [0.1, 0.4, 0.8] {
+            let f = fr_conductor(cos, Vec3::splat(1.5), Vec3::ZERO);
+            assert!((f.x - fr_dielectric(cos, 1.5)).abs() < 1e-5, "{cos}: {f}");
+        }
+    }
+}

@@ -25,7 +25,7 @@ mod specular_reflection;
 pub mod thin_dielectric;
 
 pub use coated_glossy::CoatedGlossy;
-use conductor::Conductor;
+use conductor::{Conductor, ConductorFresnel};
 use dielectric::Dielectric;
 use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
@@ -55,6 +55,14 @@ pub enum Bsdf {
     /// [`microfacet::clamp_alpha`]).
     Conductor {
         f0: Vec3,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
+    /// A GGX conductor with the exact Fresnel of the complex index `eta` + i `k` (LuxRender's
+    /// `metal`).
+    MeasuredConductor {
+        eta: Vec3,
+        k: Vec3,
         alpha_x: f32,
         alpha_y: f32,
     },
@@ -118,7 +126,13 @@ impl Bsdf {
                 f0,
                 alpha_x,
                 alpha_y,
-            } => conductor(f0, alpha_x, alpha_y).eval(wo, wi),
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).eval(wo, wi),
+            Bsdf::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).eval(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
             Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
             Bsdf::RoughDielectric(d) => d.eval(wo, wi),
@@ -143,7 +157,13 @@ impl Bsdf {
                 f0,
                 alpha_x,
                 alpha_y,
-            } => conductor(f0, alpha_x, alpha_y).pdf(wo, wi),
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).pdf(wo, wi),
+            Bsdf::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).pdf(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
             Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
             Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
@@ -184,7 +204,13 @@ impl Bsdf {
                 f0,
                 alpha_x,
                 alpha_y,
-            } => conductor(f0, alpha_x, alpha_y).sample(wo, u),
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).sample(wo, u),
+            Bsdf::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).sample(wo, u),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
             Bsdf::CoatedGlossy(c) => c.sample(wo, u),
             Bsdf::RoughDielectric(d) => d.sample(wo, u, canonical(uc)),
@@ -228,6 +254,7 @@ impl Bsdf {
             }
             .albedo(),
             Bsdf::Conductor { f0, .. } => f0,
+            Bsdf::MeasuredConductor { eta, k, .. } => fresnel::fr_conductor(1.0, eta, k),
             Bsdf::OrenNayar { reflectance, .. } => reflectance,
             // The coating reflects about Ks; the base shows through the rest.
             Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,
@@ -239,9 +266,9 @@ impl Bsdf {
     }
 }
 
-fn conductor(f0: Vec3, alpha_x: f32, alpha_y: f32) -> Conductor {
+fn conductor(fresnel: ConductorFresnel, alpha_x: f32, alpha_y: f32) -> Conductor {
     Conductor {
-        f0,
+        fresnel,
         distribution: TrowbridgeReitz::new(alpha_x, alpha_y),
     }
 }

@@ -68,7 +68,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
     }
 
     let choice = path.rng.next_f32();
-    let Some(bsdf) = scene.bsdf_at(&surface, choice) else {
+    let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
         path.pass_through(&surface);
         return None;
     };

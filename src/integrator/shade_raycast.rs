@@ -62,7 +62,7 @@ fn shade_hit(
         path.add_radiance(*path.throughput * area.radiance());
     }
     let choice = path.rng.next_f32();
-    let Some(bsdf) = scene.bsdf_at(&surface, choice) else {
+    let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
         path.pass_through(&surface);
         return;
     };
@@ -117,16 +117,17 @@ fn shade_hit(
 fn local_shading(bsdf: &Bsdf, surface: &SurfacePoint, wo: Vec3, wi: Vec3) -> Vec3 {
     match bsdf {
         Bsdf::Conductor {
-            f0,
-            alpha_x,
-            alpha_y,
+            alpha_x, alpha_y, ..
+        }
+        | Bsdf::MeasuredConductor {
+            alpha_x, alpha_y, ..
         } => {
             let alpha = (alpha_x * alpha_y).sqrt().max(1e-3);
             let exponent = (2.0 / (alpha * alpha) - 2.0).max(1.0);
             let n = surface.shading_normal;
             let mirror = 2.0 * wo.dot(n) * n - wo;
             let cos_r = mirror.dot(wi).max(0.0);
-            *f0 * (exponent + 2.0) / (2.0 * PI) * cos_r.powf(exponent)
+            bsdf.albedo() * (exponent + 2.0) / (2.0 * PI) * cos_r.powf(exponent)
         }
         other => other.albedo() / PI,
     }

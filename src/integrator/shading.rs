@@ -10,6 +10,7 @@ use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
+use crate::material::bump::bumped_normal;
 use crate::material::texture::TextureTable;
 use crate::math::offset_ray_origin;
 use crate::sampling::PathRng;
@@ -66,16 +67,31 @@ pub struct Scene<'a> {
 
 impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
-    /// `choice` in [0, 1) picks the side of each mix.
-    pub fn bsdf_at(&self, surface: &SurfacePoint, choice: f32) -> Option<Bsdf> {
-        let point = ShadingPoint {
+    /// `choice` in [0, 1) picks the side of each mix. A bump map on the way bends the surface's
+    /// shading normal (the one hook for bump mapping).
+    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Bsdf> {
+        let mut point = ShadingPoint {
             p: surface.position,
             uv: surface.uv,
             n: surface.shading_normal,
             object: surface.material,
         };
-        self.materials
-            .bsdf_at(surface.material, &point, self.textures, choice)
+        let bsdf = self.materials.bsdf_at(
+            surface.material,
+            &mut point,
+            self.textures,
+            choice,
+            |map, point| {
+                let (dpdu, dpdv) = self.geometry.uv_derivatives(surface.prim, point.p);
+                let height = |at: &ShadingPoint| {
+                    self.textures
+                        .map_or(0.0, |table| table.lookup_float(map.height, at))
+                };
+                point.n = bumped_normal(point, dpdu, dpdv, map.sample_distance, height);
+            },
+        );
+        surface.shading_normal = point.n;
+        bsdf
     }
 }
 

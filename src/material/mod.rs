@@ -1,21 +1,25 @@
 //! Materials: what each primitive's material index means at a hit. A material resolves, at a
 //! surface point, to one BSDF (or none, for `null`).
 
+pub mod bump;
 pub mod texture;
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
 use crate::bsdf::microfacet::TrowbridgeReitz;
+use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::{Bsdf, CoatedGlossy, Plastic, RoughDielectric, RoughPlastic, ThinDielectric};
 use crate::texture::ShadingPoint;
+use bump::BumpMap;
 use texture::TextureTable;
 
 /// Mixes nest at most this deep; deeper chains (only a cycle makes one) resolve to black matte.
 const MAX_MIX_DEPTH: usize = 8;
 
 /// A colour input: a constant, or a texture of the [`TextureTable`] looked up at the hit's uv.
+/// A float input is one too, read as the mean of its channels (the texture graph's rule).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Color {
     Constant(Vec3),
@@ -28,11 +32,10 @@ pub enum Material {
     Lambertian {
         reflectance: Color,
     },
-    /// Oren-Nayar's A and B (see `bsdf::oren_nayar`).
+    /// Oren-Nayar with the facet slope deviation in degrees (a float input).
     OrenNayar {
         reflectance: Color,
-        a: f32,
-        b: f32,
+        sigma_degrees: Color,
     },
     CoatedGlossy {
         diffuse: Color,
@@ -90,11 +93,16 @@ pub enum Material {
     },
     /// Rays pass through.
     Null,
-    /// `amount` of material `second`, `1 - amount` of `first`.
+    /// `amount` (a float input) of material `second`, `1 - amount` of `first`.
     Mix {
         first: usize,
         second: usize,
-        amount: f32,
+        amount: Color,
+    },
+    /// Material `material` with its shading normal perturbed by a bump map.
+    Bump {
+        material: usize,
+        bump: BumpMap,
     },
     /// Material `material` from the front, black from the back (see [`MaterialTable::is_one_sided`]).
     OneSided {
@@ -113,7 +121,10 @@ impl MaterialTable {
         self.materials.iter().any(|m| {
             let inputs: &[&Color] = match m {
                 Material::Lambertian { reflectance } => &[reflectance],
-                Material::OrenNayar { reflectance, .. } => &[reflectance],
+                Material::OrenNayar {
+                    reflectance,
+                    sigma_degrees,
+                } => &[reflectance, sigma_degrees],
                 Material::CoatedGlossy {
                     diffuse,
                     specular,
@@ -143,7 +154,9 @@ impl MaterialTable {
                 | Material::RoughPlastic {
                     diffuse, specular, ..
                 } => &[diffuse, specular],
-                Material::Null | Material::Mix { .. } | Material::OneSided { .. } => &[],
+                Material::Mix { amount, .. } => &[amount],
+                Material::Bump { .. } => return true,
+                Material::Null | Material::OneSided { .. } => &[],
             };
             inputs.iter().any(|c| matches!(c, Color::Texture(_)))
         })
@@ -164,126 +177,27 @@ impl MaterialTable {
     }
 
     /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
-    /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one).
+    /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one);
+    /// `bump` is called with each bump map met on the way, outermost first, and may change the
+    /// normal of `sp` (which the BSDF's textures then see).
     pub fn bsdf_at(
         &self,
         id: u32,
-        sp: &ShadingPoint,
+        sp: &mut ShadingPoint,
         textures: Option<&TextureTable>,
         mut choice: f32,
+        mut bump: impl FnMut(&BumpMap, &mut ShadingPoint),
     ) -> Option<Bsdf> {
-        // Colours are clamped to [0, 1], as LuxRender's materials clamp their textures'
-        // values (`materials/matte.cpp`, `glossy2.cpp`: `Kd->Evaluate(...).Clamp(0, 1)`): an
-        // unclamped `mix` driven by fbm can go negative.
-        let color = |c: &Color| {
-            match (c, textures) {
-                (Color::Constant(c), _) => *c,
-                (Color::Texture(t), Some(table)) => table.lookup(*t, sp),
-                (Color::Texture(_), None) => Vec3::splat(0.5),
-            }
-            .clamp(Vec3::ZERO, Vec3::ONE)
-        };
+        let inputs = Inputs { textures };
         let mut id = id as usize;
         for _ in 0..MAX_MIX_DEPTH {
-            return match self.materials.get(id)? {
-                Material::Lambertian { reflectance } => Some(Bsdf::Lambertian {
-                    reflectance: color(reflectance),
-                }),
-                Material::OrenNayar { reflectance, a, b } => Some(Bsdf::OrenNayar {
-                    reflectance: color(reflectance),
-                    a: *a,
-                    b: *b,
-                }),
-                Material::CoatedGlossy {
-                    diffuse,
-                    specular,
-                    absorption,
-                    depth,
-                    roughness,
-                } => Some(Bsdf::CoatedGlossy(CoatedGlossy {
-                    diffuse: color(diffuse),
-                    specular: color(specular),
-                    absorption: color(absorption),
-                    depth: *depth,
-                    roughness: *roughness,
-                })),
-                Material::SpecularReflection { reflectance } => Some(Bsdf::SpecularReflection {
-                    reflectance: color(reflectance),
-                }),
-                Material::Dielectric {
-                    reflectance,
-                    transmittance,
-                    eta,
-                } => Some(Bsdf::Dielectric {
-                    reflectance: color(reflectance),
-                    transmittance: color(transmittance),
-                    eta: *eta,
-                }),
-                Material::Conductor {
-                    f0,
-                    alpha_x,
-                    alpha_y,
-                } => Some(Bsdf::Conductor {
-                    f0: color(f0),
-                    alpha_x: *alpha_x,
-                    alpha_y: *alpha_y,
-                }),
-                Material::RoughDielectric {
-                    reflectance,
-                    transmittance,
-                    eta,
-                    alpha_x,
-                    alpha_y,
-                } => Some(Bsdf::RoughDielectric(RoughDielectric {
-                    reflectance: color(reflectance),
-                    transmittance: color(transmittance),
-                    eta: *eta,
-                    distribution: TrowbridgeReitz::new(*alpha_x, *alpha_y),
-                })),
-                Material::ThinDielectric {
-                    reflectance,
-                    transmittance,
-                    eta,
-                } => Some(Bsdf::ThinDielectric(ThinDielectric {
-                    reflectance: color(reflectance),
-                    transmittance: color(transmittance),
-                    eta: *eta,
-                })),
-                Material::Plastic {
-                    diffuse,
-                    specular,
-                    eta,
-                    internal_reflectance,
-                    nonlinear,
-                } => Some(Bsdf::Plastic(Plastic {
-                    diffuse: color(diffuse),
-                    specular: color(specular),
-                    eta: *eta,
-                    internal_reflectance: *internal_reflectance,
-                    nonlinear: *nonlinear,
-                })),
-                Material::RoughPlastic {
-                    diffuse,
-                    specular,
-                    eta,
-                    alpha,
-                    nonlinear,
-                    tables,
-                } => Some(Bsdf::RoughPlastic(RoughPlastic {
-                    diffuse: color(diffuse),
-                    specular: color(specular),
-                    eta: *eta,
-                    distribution: TrowbridgeReitz::new(*alpha, *alpha),
-                    nonlinear: *nonlinear,
-                    tables,
-                })),
-                Material::Null => None,
+            match self.materials.get(id)? {
                 Material::Mix {
                     first,
                     second,
                     amount,
                 } => {
-                    let amount = amount.clamp(0.0, 1.0);
+                    let amount = inputs.float(amount, sp).clamp(0.0, 1.0);
                     if choice < amount {
                         choice /= amount;
                         id = *second;
@@ -291,16 +205,160 @@ impl MaterialTable {
                         choice = (choice - amount) / (1.0 - amount);
                         id = *first;
                     }
-                    continue;
                 }
                 Material::OneSided { material } => {
                     id = *material;
-                    continue;
                 }
-            };
+                Material::Bump {
+                    material,
+                    bump: map,
+                } => {
+                    bump(map, sp);
+                    id = *material;
+                }
+                leaf => return inputs.bsdf(leaf, sp),
+            }
         }
         Some(Bsdf::Lambertian {
             reflectance: Vec3::ZERO,
+        })
+    }
+}
+
+/// Reads a material's inputs at a shading point.
+struct Inputs<'a> {
+    textures: Option<&'a TextureTable>,
+}
+
+impl Inputs<'_> {
+    fn raw(&self, c: &Color, sp: &ShadingPoint) -> Vec3 {
+        match (c, self.textures) {
+            (Color::Constant(c), _) => *c,
+            (Color::Texture(t), Some(table)) => table.lookup(*t, sp),
+            (Color::Texture(_), None) => Vec3::splat(0.5),
+        }
+    }
+
+    /// Colours are clamped to [0, 1], as LuxRender's materials clamp their textures' values
+    /// (`materials/matte.cpp`, `glossy2.cpp`: `Kd->Evaluate(...).Clamp(0, 1)`): an unclamped
+    /// `mix` driven by fbm can go negative.
+    fn color(&self, c: &Color, sp: &ShadingPoint) -> Vec3 {
+        self.raw(c, sp).clamp(Vec3::ZERO, Vec3::ONE)
+    }
+
+    /// A float input: the mean of the channels, unclamped (each material clamps its own).
+    fn float(&self, c: &Color, sp: &ShadingPoint) -> f32 {
+        let v = self.raw(c, sp);
+        (v.x + v.y + v.z) / 3.0
+    }
+
+    /// The BSDF of a material that scatters (`None` for `null`, and for the mixes and bumps
+    /// [`MaterialTable::bsdf_at`] resolves before).
+    fn bsdf(&self, material: &Material, sp: &ShadingPoint) -> Option<Bsdf> {
+        let color = |c: &Color| self.color(c, sp);
+        Some(match material {
+            Material::Lambertian { reflectance } => Bsdf::Lambertian {
+                reflectance: color(reflectance),
+            },
+            Material::OrenNayar {
+                reflectance,
+                sigma_degrees,
+            } => {
+                // `materials/matte.cpp` clamps sigma to [0, 90] degrees.
+                let (a, b) = oren_nayar_ab(self.float(sigma_degrees, sp).clamp(0.0, 90.0));
+                Bsdf::OrenNayar {
+                    reflectance: color(reflectance),
+                    a,
+                    b,
+                }
+            }
+            Material::CoatedGlossy {
+                diffuse,
+                specular,
+                absorption,
+                depth,
+                roughness,
+            } => Bsdf::CoatedGlossy(CoatedGlossy {
+                diffuse: color(diffuse),
+                specular: color(specular),
+                absorption: color(absorption),
+                depth: *depth,
+                roughness: *roughness,
+            }),
+            Material::SpecularReflection { reflectance } => Bsdf::SpecularReflection {
+                reflectance: color(reflectance),
+            },
+            Material::Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            } => Bsdf::Dielectric {
+                reflectance: color(reflectance),
+                transmittance: color(transmittance),
+                eta: *eta,
+            },
+            Material::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => Bsdf::Conductor {
+                f0: color(f0),
+                alpha_x: *alpha_x,
+                alpha_y: *alpha_y,
+            },
+            Material::RoughDielectric {
+                reflectance,
+                transmittance,
+                eta,
+                alpha_x,
+                alpha_y,
+            } => Bsdf::RoughDielectric(RoughDielectric {
+                reflectance: color(reflectance),
+                transmittance: color(transmittance),
+                eta: *eta,
+                distribution: TrowbridgeReitz::new(*alpha_x, *alpha_y),
+            }),
+            Material::ThinDielectric {
+                reflectance,
+                transmittance,
+                eta,
+            } => Bsdf::ThinDielectric(ThinDielectric {
+                reflectance: color(reflectance),
+                transmittance: color(transmittance),
+                eta: *eta,
+            }),
+            Material::Plastic {
+                diffuse,
+                specular,
+                eta,
+                internal_reflectance,
+                nonlinear,
+            } => Bsdf::Plastic(Plastic {
+                diffuse: color(diffuse),
+                specular: color(specular),
+                eta: *eta,
+                internal_reflectance: *internal_reflectance,
+                nonlinear: *nonlinear,
+            }),
+            Material::RoughPlastic {
+                diffuse,
+                specular,
+                eta,
+                alpha,
+                nonlinear,
+                tables,
+            } => Bsdf::RoughPlastic(RoughPlastic {
+                diffuse: color(diffuse),
+                specular: color(specular),
+                eta: *eta,
+                distribution: TrowbridgeReitz::new(*alpha, *alpha),
+                nonlinear: *nonlinear,
+                tables,
+            }),
+            Material::Null
+            | Material::Mix { .. }
+            | Material::Bump { .. }
+            | Material::OneSided { .. } => return None,
         })
     }
 }

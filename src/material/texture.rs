@@ -35,6 +35,12 @@ impl TextureTable {
         })
     }
 
+    /// The value of graph node `id` at `sp` read as a float (the mean of its channels).
+    pub fn lookup_float(&self, id: usize, sp: &ShadingPoint) -> f32 {
+        let v = self.lookup(id, sp);
+        (v.x + v.y + v.z) / 3.0
+    }
+
     /// Image `id` at `st`. The image's first row is t = 0 (LuxRender's convention; LuxBlend
     /// writes vscale -1, vdelta 1 to put Blender's v = 0 at the bottom).
     fn image(&self, id: usize, st: Vec2) -> Vec3 {

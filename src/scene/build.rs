@@ -12,7 +12,6 @@ use super::desc::{
     ToneMap,
 };
 use crate::bsdf::microfacet::clamp_alpha;
-use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::plastic::internal_reflectance;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::camera::fisheye::FisheyeFit;
@@ -24,6 +23,7 @@ use crate::light::distant::DistantLight;
 use crate::light::infinite::InfiniteLight;
 use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
+use crate::material::bump::BumpMap;
 use crate::material::texture::{self, TextureTable};
 use crate::material::{Color, Material, MaterialTable};
 use crate::sampling::{PixelSampler, SamplerKind};
@@ -352,14 +352,10 @@ fn material(desc: &MaterialDesc) -> Material {
         MaterialDesc::RoughDiffuse {
             reflectance,
             sigma_degrees,
-        } => {
-            let (a, b) = oren_nayar_ab(*sigma_degrees);
-            Material::OrenNayar {
-                reflectance: color(reflectance),
-                a,
-                b,
-            }
-        }
+        } => Material::OrenNayar {
+            reflectance: color(reflectance),
+            sigma_degrees: color(sigma_degrees),
+        },
         MaterialDesc::CoatedDiffuse {
             diffuse,
             specular,
@@ -454,7 +450,18 @@ fn material(desc: &MaterialDesc) -> Material {
         } => Material::Mix {
             first: *first,
             second: *second,
-            amount: *amount,
+            amount: color(amount),
+        },
+        MaterialDesc::Bump {
+            material,
+            height,
+            sample_distance,
+        } => Material::Bump {
+            material: *material,
+            bump: BumpMap {
+                height: *height,
+                sample_distance: *sample_distance,
+            },
         },
     }
 }

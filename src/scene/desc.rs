@@ -253,6 +253,10 @@ pub enum ColorParam {
     Texture(TextureId),
 }
 
+/// A float parameter: a constant or a texture node, read as the mean of its channels (the
+/// texture graph's rule; a constant holds the value in all three).
+pub type FloatParam = ColorParam;
+
 /// A surface's scattering, as a physical model.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialDesc {
@@ -262,7 +266,7 @@ pub enum MaterialDesc {
     /// facet slope angle.
     RoughDiffuse {
         reflectance: ColorParam,
-        sigma_degrees: f32,
+        sigma_degrees: FloatParam,
     },
     /// A diffuse base under a glossy dielectric coating (Schlick's coated model):
     /// `specular` the coating's reflectance at normal incidence, `absorption` and `depth` its
@@ -323,7 +327,14 @@ pub enum MaterialDesc {
     Mix {
         first: MaterialId,
         second: MaterialId,
-        amount: f32,
+        amount: FloatParam,
+    },
+    /// `material` with its shading normal bent by the displacement `height` (a float texture,
+    /// world units), differentiated over steps of `sample_distance`.
+    Bump {
+        material: MaterialId,
+        height: TextureId,
+        sample_distance: f32,
     },
     /// `material` seen from the side its surface's normal faces, black from the back (Mitsuba's
     /// reflecting BSDFs outside `twosided`). Any other material scatters from both sides.

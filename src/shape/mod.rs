@@ -4,6 +4,7 @@
 
 pub mod geometry;
 pub mod surface;
+pub mod uv_derivatives;
 
 use std::sync::Arc;
 

@@ -18,6 +18,8 @@ pub struct SurfacePoint {
     pub uv: Vec2,
     pub material: u32,
     pub emitter: u32,
+    /// The accel's primitive id (for [`SceneGeometry::uv_derivatives`]).
+    pub prim: u32,
 }
 
 impl SceneGeometry {
@@ -55,6 +57,7 @@ impl SceneGeometry {
             uv,
             material: self.material[prim],
             emitter: self.emitter[prim],
+            prim: hit.prim,
         }
     }
 

@@ -7,6 +7,7 @@ use glam::{Vec2, Vec3};
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
 use crate::bsdf::coated_glossy::coating_f0;
+use crate::material::bump::DEFAULT_SAMPLE_DISTANCE;
 use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
 use crate::scene::io::image;
 use crate::texture::{Mapping2D, TextureNode};
@@ -39,18 +40,47 @@ impl Parser {
         line: usize,
         params: &mut ParamList,
     ) -> Result<MaterialDesc, SceneError> {
+        // Every material may carry a bump map (`core/material.cpp`: `Material::Bump`); a
+        // constant displacement bends nothing.
+        let bump = match self.color_param(params, "bumpmap", Vec3::ZERO, line)? {
+            ColorParam::Texture(height) => Some(height),
+            ColorParam::Constant(_) => None,
+        };
+        let sample_distance = params
+            .float("bumpmapsampledistance")?
+            .unwrap_or(DEFAULT_SAMPLE_DISTANCE);
+        let material = self.unbumped_material(kind, line, params)?;
+        Ok(match bump {
+            Some(height) => {
+                self.scene.materials.push(material);
+                MaterialDesc::Bump {
+                    material: self.scene.materials.len() - 1,
+                    height,
+                    sample_distance,
+                }
+            }
+            None => material,
+        })
+    }
+
+    fn unbumped_material(
+        &mut self,
+        kind: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<MaterialDesc, SceneError> {
         Ok(match kind {
             // `materials/matte.cpp`: Kd 0.9, sigma 0 (Lambertian) in degrees, clamped to [0, 90].
             "matte" => {
                 let reflectance = self.color_param(params, "Kd", Vec3::splat(0.9), line)?;
-                let sigma = self.constant_float(params, "sigma", 0.0, line)?;
-                if sigma > 0.0 {
-                    MaterialDesc::RoughDiffuse {
-                        reflectance,
-                        sigma_degrees: sigma.min(90.0),
+                match self.color_param(params, "sigma", Vec3::ZERO, line)? {
+                    ColorParam::Constant(sigma) if sigma.max_element() <= 0.0 => {
+                        MaterialDesc::Diffuse { reflectance }
                     }
-                } else {
-                    MaterialDesc::Diffuse { reflectance }
+                    sigma_degrees => MaterialDesc::RoughDiffuse {
+                        reflectance,
+                        sigma_degrees,
+                    },
                 }
             }
             // `materials/glossy2.cpp`: Kd 1, Ks 1 (times ((n - 1) / (n + 1))^2 when `index` > 0),
@@ -130,7 +160,7 @@ impl Parser {
                 };
                 let first = named("namedmaterial1")?;
                 let second = named("namedmaterial2")?;
-                let amount = params.float("amount")?.unwrap_or(0.5);
+                let amount = self.color_param(params, "amount", Vec3::splat(0.5), line)?;
                 MaterialDesc::Mix {
                     first,
                     second,

@@ -1,0 +1,115 @@
+//! LuxRender materials read from `.lxs` text and rendered: bump maps and float parameters
+//! given by spatially varying textures, each against a closed form.
+
+mod common;
+
+use std::path::PathBuf;
+
+use foton::scene::desc::SceneDesc;
+use foton::settings::IntegratorKind;
+
+/// Loads `world` (material and texture lines) over a 2 x 2 quad at z = 0 with uvs 0..1, lit
+/// straight down by a distant light and seen from above by a camera that sees only the quad.
+fn quad_scene(name: &str, world: &str) -> SceneDesc {
+    let dir: PathBuf = std::env::temp_dir().join(format!("foton-lxs-materials-{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.lxs");
+    let text = format!(
+        r#"LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective" "float fov" [20]
+Film "fleximage" "integer xresolution" [32] "integer yresolution" [32]
+WorldBegin
+LightSource "distant" "point from" [0 0 1] "point to" [0 0 0] "color L" [1 1 1]
+{world}
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] "float uv" [0 0  1 0  1 1  0 1]
+WorldEnd
+"#
+    );
+    std::fs::write(&path, text).unwrap();
+    foton::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The mean of the image: one bounce of the path tracer, so only the distant light's direct
+/// light (sampled exactly: no noise but the mixes' choices).
+fn mean_radiance(desc: SceneDesc, spp: u32) -> f32 {
+    let mut options = common::options(spp, 1);
+    options.integrator = IntegratorKind::PathTracer;
+    let image = common::render(desc, &options);
+    image.iter().map(|p| p.element_sum() / 3.0).sum::<f32>() / image.len() as f32
+}
+
+/// A ramp displacement h = 2u over a quad 2 wide (dp/du = 2x) has slope dh/dx = 1: the bumped
+/// normal (-1, 0, 1) / sqrt 2 sees the overhead light at cos = 1 / sqrt 2, so the matte quad
+/// is 1 / sqrt 2 as bright as without the bump map. The light and the camera's one bounce are
+/// exact (a delta light, a Lambertian), so the ratio is exact up to float rounding.
+#[test]
+fn a_bump_map_tilts_the_shading_normal_by_its_slope() {
+    let ramp = r#"Texture "ramp" "float" "bilerp" "float v00" [0] "float v01" [0] "float v10" [2] "float v11" [2]"#;
+    let flat = quad_scene(
+        "flat",
+        &format!("{ramp}\nMaterial \"matte\" \"color Kd\" [0.5 0.5 0.5]"),
+    );
+    let bumped = quad_scene(
+        "bumped",
+        &format!(
+            "{ramp}\nMaterial \"matte\" \"color Kd\" [0.5 0.5 0.5] \"texture bumpmap\" [\"ramp\"]"
+        ),
+    );
+    assert!(bumped.warnings.is_empty(), "{:?}", bumped.warnings);
+    let ratio = mean_radiance(bumped, 2) / mean_radiance(flat, 2);
+    assert!(
+        (ratio - std::f32::consts::FRAC_1_SQRT_2).abs() < 2e-3,
+        "bumped / flat {ratio}"
+    );
+}
+
+/// matte's `sigma` from a varying texture (here one whose value is 30 degrees everywhere):
+/// Oren-Nayar lit and seen along the normal is A R / pi with A = 1 - s^2 / (2 (s^2 + 0.33)),
+/// s = 30 degrees in radians, against R / pi for the Lambertian.
+#[test]
+fn matte_sigma_from_a_texture() {
+    let texture = r#"Texture "s" "float" "bilerp" "float v00" [30] "float v01" [30] "float v10" [30] "float v11" [30]"#;
+    let lambert = quad_scene("lambert", "Material \"matte\" \"color Kd\" [0.5 0.5 0.5]");
+    let rough = quad_scene(
+        "rough",
+        &format!(
+            "{texture}\nMaterial \"matte\" \"color Kd\" [0.5 0.5 0.5] \"texture sigma\" [\"s\"]"
+        ),
+    );
+    assert!(rough.warnings.is_empty(), "{:?}", rough.warnings);
+    let s2 = 30f32.to_radians().powi(2);
+    let a = 1.0 - s2 / (2.0 * (s2 + 0.33));
+    // The camera sees the quad up to 7 degrees off the normal; with the light along the normal
+    // Oren-Nayar's B term vanishes (beta = 0), so the ratio is A everywhere.
+    let ratio = mean_radiance(rough, 1) / mean_radiance(lambert, 1);
+    assert!(
+        (ratio - a).abs() < 2e-3,
+        "Oren-Nayar / Lambert {ratio}, A = {a}"
+    );
+}
+
+/// mix's `amount` from a varying texture (0.25 everywhere): a quarter of white matte and three
+/// quarters of black reflect as a quarter-white matte. Each sample picks one side, so the
+/// image mean over N = 32 x 32 pixels x 16 spp choices has a relative standard deviation of
+/// sqrt(0.25 * 0.75 / N) / 0.25 = 1.4%; the bound is 4 of them (the default amount, 0.5, would
+/// give a ratio of 2).
+#[test]
+fn mix_amount_from_a_texture() {
+    let texture = r#"Texture "a" "float" "bilerp" "float v00" [0.25] "float v01" [0.25] "float v10" [0.25] "float v11" [0.25]
+MakeNamedMaterial "black" "string type" ["matte"] "color Kd" [0 0 0]
+MakeNamedMaterial "white" "string type" ["matte"] "color Kd" [1 1 1]"#;
+    let mixed = quad_scene(
+        "mixed",
+        &format!(
+            "{texture}\nMaterial \"mix\" \"string namedmaterial1\" [\"black\"] \"string namedmaterial2\" [\"white\"] \"texture amount\" [\"a\"]"
+        ),
+    );
+    assert!(mixed.warnings.is_empty(), "{:?}", mixed.warnings);
+    let quarter = quad_scene(
+        "quarter",
+        "Material \"matte\" \"color Kd\" [0.25 0.25 0.25]",
+    );
+    let ratio = mean_radiance(mixed, 16) / mean_radiance(quarter, 16);
+    assert!((ratio - 1.0).abs() < 0.056, "mix / quarter matte {ratio}");
+}
