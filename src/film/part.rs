@@ -13,14 +13,14 @@
 
 use std::path::Path;
 
-use exr::meta::attribute::{AttributeValue, Text};
+use exr::meta::attribute::AttributeValue;
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
     SmallVec, WritableImage,
 };
 use glam::DVec3;
 
-use super::output::temporary_path;
+use super::output::{temporary_path, text};
 
 /// The part format's version, in `foton:part:format`.
 const FORMAT: &str = "1";
@@ -70,16 +70,6 @@ pub struct Part {
 pub fn content_hash(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
-    })
-}
-
-fn text(s: &str) -> Text {
-    Text::new_or_none(s).unwrap_or_else(|| {
-        let ascii: String = s
-            .chars()
-            .map(|c| if c.is_ascii() { c } else { '?' })
-            .collect();
-        Text::new_or_none(ascii).unwrap_or_default()
     })
 }
 
