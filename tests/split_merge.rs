@@ -179,7 +179,21 @@ fn parts_that_do_not_belong_together_are_refused_and_gaps_reported() {
         stderr(&output)
     );
     let seed = dir.join("seed.exr");
-    render(&seed, &["--passes", "3..6", "--seed", "6"]);
+    let output = foton(&[
+        "render",
+        SCENE,
+        "-o",
+        path(&seed),
+        "--resolution",
+        "40x28",
+        "--spp",
+        "8",
+        "--seed",
+        "6",
+        "--passes",
+        "3..6",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
     let output = merge(&[&a, &seed], &out);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     assert!(stderr(&output).contains("--seed 6"), "{}", stderr(&output));
