@@ -1,10 +1,11 @@
 //! The command line: `foton render`, `foton bench`, `foton compare`, `foton converge`,
-//! `foton chart`.
+//! `foton chart`, `foton merge`.
 
 mod bench;
 mod compare;
 mod converge;
 mod interrupt;
+mod merge;
 mod render;
 
 use std::path::PathBuf;
@@ -32,7 +33,8 @@ pub mod exit {
 const EXIT_CODES: &str = "Exit codes:
   0    done (also when stopped by --time-limit)
   1    scene error (unreadable or malformed scene or checkpoint, empty scene)
-  2    usage error (bad command line; a checkpoint of another seed, size or crop)
+  2    usage error (bad command line; a checkpoint of another seed, size or crop; parts that
+       do not belong together or hold a pass twice)
   3    output error (unknown image format, missing folder, not writable)
   4    out of memory (the estimate exceeds the available memory)
   130  interrupted by SIGINT (Ctrl-C): the samples done are written
@@ -79,6 +81,9 @@ enum Command {
     Converge(ConvergeCliArgs),
     /// Draw the log-log chart of relMSE against seconds from CSVs of measured points.
     Chart(ChartArgs),
+    /// Merge parts written by `render --passes` (and `--crop`) into one image.
+    #[command(after_help = EXIT_CODES)]
+    Merge(MergeArgs),
 }
 
 #[derive(Args, Debug)]
@@ -89,6 +94,19 @@ struct ChartArgs {
     /// The chart (.svg); a .png goes beside it.
     #[arg(long, short, default_value = "chart.svg")]
     output: PathBuf,
+}
+
+#[derive(Args, Debug)]
+struct MergeArgs {
+    /// The parts (.exr files written by `foton render --passes A..B`).
+    #[arg(required = true)]
+    parts: Vec<PathBuf>,
+    /// The merged image (.exr, .hdr, .pfm linear; .png, .jpg with the scene's tone map).
+    #[arg(long, short, required_unless_present = "status")]
+    output: Option<PathBuf>,
+    /// Only say which passes each region holds, which are missing, and the merged spp.
+    #[arg(long)]
+    status: bool,
 }
 
 #[derive(Args, Debug)]
@@ -223,6 +241,10 @@ pub struct RenderArgs {
     /// Render only pixels x0 <= x < x1, y0 <= y < y1; the image is the crop's size.
     #[arg(long, value_parser = parse_crop, conflicts_with = "pixel")]
     pub crop: Option<[u32; 4]>,
+    /// Render only sample passes A to B-1 of the render (with the random streams they have in
+    /// it) and write them as a part (.exr) for `foton merge`.
+    #[arg(long, value_parser = merge::parse_passes, conflicts_with = "resume")]
+    pub passes: Option<(u32, u32)>,
     /// Render only this pixel, print its value, and write a 1x1 image.
     #[arg(long, value_parser = parse_pixel)]
     pub pixel: Option<(u32, u32)>,
@@ -434,6 +456,7 @@ pub fn run() -> ExitCode {
         .map_err(|message| Failure::new(exit::SCENE_ERROR, message)),
         Command::Chart(args) => converge::chart(&args.csvs, &args.output)
             .map_err(|message| Failure::new(exit::SCENE_ERROR, message)),
+        Command::Merge(args) => merge::run(&args.parts, args.output.as_deref(), args.status),
     };
     let code = match result {
         Ok(()) => 0,

@@ -8,12 +8,12 @@ use std::time::{Duration, Instant};
 use glam::{DVec3, Vec2, Vec3};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use super::{Failure, RenderArgs, SceneArgs, exit, interrupt};
+use super::{Failure, RenderArgs, SceneArgs, exit, interrupt, merge};
 use crate::accel::Hit;
 use crate::film::checkpoint::{CheckpointInfo, pixel_set_hash, read_checkpoint, write_checkpoint};
 use crate::film::{
-    Film, ImageMetadata, apply_display_tone_map, check_output, exposure_scale, is_linear_output,
-    write_image,
+    Film, ImageMetadata, Reconstruction, apply_display_tone_map, check_output, exposure_scale,
+    is_linear_output, write_image,
 };
 use crate::integrator::{RenderStats, Renderer};
 use crate::sampling::PathRng;
@@ -230,7 +230,7 @@ pub fn render_until_stopped(
         sum.paths += stats.paths;
         sum.rays += stats.rays;
         sum.elapsed += stats.elapsed;
-        if stats.passes >= settings.samples_per_pixel {
+        if stats.passes >= renderer.end_pass() {
             break Stop::Done;
         } else if interrupt::requested() {
             break Stop::Interrupted;
@@ -296,33 +296,58 @@ fn checkpoint_path(output: &Path) -> PathBuf {
 
 /// The part of the film written out: all of it, or the crop window `[x0, x1, y0, y1]`.
 #[derive(Clone, Copy, Debug)]
-struct Window {
-    x0: u32,
-    x1: u32,
-    y0: u32,
-    y1: u32,
+pub(super) struct Window {
+    pub x0: u32,
+    pub x1: u32,
+    pub y0: u32,
+    pub y1: u32,
 }
 
 impl Window {
-    fn pixels(self, film_width: u32) -> Vec<u32> {
+    /// The window grown by the pixels whose samples a splatting filter of radius `reach` carries
+    /// into it, within the film: those are rendered too, so that the window gets every sample
+    /// the full render gives it (and crops stitch into the full image). A sample in pixel p lies
+    /// in [p, p + 1) and reaches the centre j + 1/2 of pixel j when |p - j| - 1/2 <= radius.
+    fn with_splat_reach(self, reach: Vec2, width: u32, height: u32) -> Window {
+        let margin = |r: f32| (r + 0.5).floor().max(0.0) as u32;
+        let (mx, my) = (margin(reach.x), margin(reach.y));
+        Window {
+            x0: self.x0.saturating_sub(mx),
+            x1: self.x1.saturating_add(mx).min(width),
+            y0: self.y0.saturating_sub(my),
+            y1: self.y1.saturating_add(my).min(height),
+        }
+    }
+
+    pub fn pixels(self, film_width: u32) -> Vec<u32> {
         (self.y0..self.y1)
             .flat_map(|y| (self.x0..self.x1).map(move |x| y * film_width + x))
             .collect()
     }
 }
 
-/// How the image is written: where, the window, the exposure, and the metadata.
-struct ImageTarget<'a> {
-    output: &'a Path,
-    window: Option<Window>,
-    exposure: Option<f32>,
-    film: &'a FilmDesc,
-    seed: u64,
+/// How the image is written: where, the window, the exposure, and the metadata; or, for
+/// `--passes`, the part (`film/part.rs`) holding the passes from `first_pass` on.
+pub(super) struct ImageTarget<'a> {
+    pub output: &'a Path,
+    pub window: Option<Window>,
+    pub exposure: Option<f32>,
+    pub film: &'a FilmDesc,
+    pub seed: u64,
+    pub part: Option<merge::PartTemplate>,
 }
 
 impl ImageTarget<'_> {
     fn write(&self, renderer: &Renderer, passes: u32, seconds: f64) -> Result<(), Failure> {
         let film = renderer.world.resource::<Film>();
+        match &self.part {
+            Some(part) => part.write(self.output, film, self.window, passes),
+            None => self.write_film(film, passes, seconds),
+        }
+    }
+
+    /// Writes the film's mean over the window, tone-mapped or exposed as the output asks.
+    pub fn write_film(&self, film: &Film, passes: u32, seconds: f64) -> Result<(), Failure> {
         let mean = film.mean();
         let (width, height, pixels) = match self.window {
             None => (film.width(), film.height(), mean),
@@ -380,6 +405,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         .clone()
         .unwrap_or_else(|| default_output(&scene.scene));
     check_output(&output).map_err(|e| Failure::new(exit::OUTPUT_ERROR, format!("error: {e}")))?;
+    if args.passes.is_some() {
+        merge::check_part_output(&output)?;
+    }
     let exposure = args.exposure.or(args.exposure_stops.map(|s| s.exp2()));
     let resumed = match &args.resume {
         Some(path) => Some(
@@ -398,7 +426,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             .resolution
             .unwrap_or((desc.film.x_resolution, desc.film.y_resolution));
         let window = crop_window(args, width, height)?;
-        options.pixels = window.map(|w| w.pixels(width));
+        let splats = scene.techniques().film == Reconstruction::Splat;
+        options.pixels = window.map(|w| {
+            let reach = if splats {
+                desc.filter.radius
+            } else {
+                Vec2::ZERO
+            };
+            w.with_splat_reach(reach, width, height).pixels(width)
+        });
         let paths = options
             .pixels
             .as_ref()
@@ -406,6 +442,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         check_memory(&desc, width, height, paths)?;
         let film_desc = desc.film.clone();
         let (mut renderer, notes) = build(scene, desc, &options);
+        let part = match args.passes {
+            Some(passes) => Some(merge::PartTemplate::start(
+                scene,
+                &mut renderer,
+                passes,
+                window.map(|w| [w.x0, w.x1, w.y0, w.y1]),
+            )?),
+            None => None,
+        };
         let pixel_set = pixel_set_hash(options.pixels.as_deref());
         if let Some((film, info)) = &resumed {
             check_resume(args, film, info, width, height, pixel_set)?;
@@ -422,10 +467,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             exposure,
             film: &film_desc,
             seed: scene.seed,
+            part,
         };
         let started = Instant::now();
         let save = |renderer: &Renderer, passes: u32| -> Result<(), Failure> {
             target.write(renderer, passes, started.elapsed().as_secs_f64())?;
+            if target.part.is_some() {
+                // A part of the passes done is itself a part: no checkpoint needed.
+                return Ok(());
+            }
             save_checkpoint(renderer, &checkpoint, passes, scene.seed, pixel_set)
         };
         let (stats, stop) = render_until_stopped(
@@ -446,13 +496,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             return Ok(());
         }
         target.write(&renderer, stats.passes, stats.elapsed.as_secs_f64())?;
-        if stop == Stop::Interrupted || args.checkpoint.is_some() && stop != Stop::Done {
+        if target.part.is_some() {
+            // A part stopped early holds the passes done; the rest can be another part.
+        } else if stop == Stop::Interrupted || args.checkpoint.is_some() && stop != Stop::Done {
             save_checkpoint(&renderer, &checkpoint, stats.passes, scene.seed, pixel_set)?;
         } else if args.checkpoint.is_some() {
             // Finished: the checkpoint this render wrote is not needed any more.
             let _ = std::fs::remove_file(&checkpoint);
         }
-        if stop == Stop::Interrupted {
+        if stop == Stop::Interrupted && target.part.is_none() {
             eprintln!(
                 "interrupted: {} written with the {} samples per pixel done; continue with \
                  --resume {}",

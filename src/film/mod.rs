@@ -6,6 +6,7 @@ pub mod checkpoint;
 mod film;
 pub mod filter;
 pub mod output;
+pub mod part;
 pub mod tonemap;
 
 pub use film::{Film, FilmSample, Reconstruction};

@@ -172,15 +172,6 @@ fn write_exr(
     pixels: &[Vec3],
     metadata: &ImageMetadata,
 ) -> Result<(), String> {
-    let text = |s: &str| {
-        Text::new_or_none(s).unwrap_or_else(|| {
-            let ascii: String = s
-                .chars()
-                .map(|c| if c.is_ascii() { c } else { '?' })
-                .collect();
-            Text::new_or_none(ascii).unwrap_or_default()
-        })
-    };
     let mut attributes = LayerAttributes::named("");
     attributes.software_name = Some(text("foton"));
     for (name, value) in [
@@ -208,6 +199,17 @@ fn write_exr(
         .write()
         .to_file(path)
         .map_err(|e| e.to_string())
+}
+
+/// An EXR text attribute: `s`, its non-ASCII characters as `?`.
+pub(crate) fn text(s: &str) -> Text {
+    Text::new_or_none(s).unwrap_or_else(|| {
+        let ascii: String = s
+            .chars()
+            .map(|c| if c.is_ascii() { c } else { '?' })
+            .collect();
+        Text::new_or_none(ascii).unwrap_or_default()
+    })
 }
 
 /// Portable float map: `PF`, the size, -1 for little-endian, then rows from the bottom.

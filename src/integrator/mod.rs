@@ -58,6 +58,8 @@ pub struct Renderer {
     stage_times: Option<Vec<StageTime>>,
     /// Passes already in the film (from a checkpoint): rendering goes on from there.
     passes_done: u32,
+    /// The pass rendering stops before (`--passes A..B`: B); all of them when `None`.
+    end_pass: Option<u32>,
 }
 
 /// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
@@ -175,6 +177,7 @@ impl Renderer {
             chunk_paths: DEFAULT_CHUNK_PATHS,
             stage_times: None,
             passes_done: 0,
+            end_pass: None,
         }
     }
 
@@ -319,6 +322,20 @@ impl Renderer {
         restored
     }
 
+    /// Renders only the passes `first..end` (a part, `foton render --passes`), into an empty
+    /// film: each pass draws the random streams it has in a full render (seeded by seed, pixel
+    /// and pass), so the parts' films sum to the full render's.
+    pub fn render_only_passes(&mut self, first: u32, end: u32) {
+        self.passes_done = first;
+        self.end_pass = Some(end);
+    }
+
+    /// The pass the render stops before: the samples per pixel, or the end of a part's passes.
+    pub fn end_pass(&self) -> u32 {
+        let spp = self.samples_per_pixel();
+        self.end_pass.map_or(spp, |end| end.min(spp))
+    }
+
     /// Renders passes until the samples per pixel or the time limit (checked at the end of each
     /// pass) are reached, or until `on_progress`, told after each chunk how far the render is,
     /// returns false.
@@ -326,13 +343,14 @@ impl Renderer {
         let settings = self.world.resource::<RenderSettings>().clone();
         let pixels = settings.path_count();
         let chunk = self.chunk_paths.min(pixels.max(1));
-        let paths_total = u64::from(settings.samples_per_pixel) * pixels as u64;
+        let end_pass = self.end_pass();
+        let paths_total = u64::from(end_pass) * pixels as u64;
         let start = Instant::now();
         let (mut rays, mut paths) = (0u64, 0u64);
         let mut passes = self.passes_done;
         let resumed_paths = u64::from(passes) * pixels as u64;
         let mut complete_passes = true;
-        'passes: while passes < settings.samples_per_pixel {
+        'passes: while passes < end_pass {
             self.world.resource_mut::<PassIndex>().0 = passes;
             for first in (0..pixels).step_by(chunk) {
                 let count = chunk.min(pixels - first);

@@ -15,8 +15,8 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
 use crate::camera::{CameraType, pinhole};
-use crate::settings::IntegratorKind;
 pub use crate::light::spot::SpotFalloff;
+use crate::settings::IntegratorKind;
 pub use crate::texture::TextureGraph;
 
 /// Where something came from: a file, a 1-based line and, where the format has them (XML),
