@@ -746,6 +746,7 @@ fn compare_measures_error_and_converge_charts_it() {
     )
     .unwrap();
     assert_eq!(code(&foton(&["chart", bad.to_str().unwrap()])), Some(1));
+}
 
 /// `--clamp V` scales each sample down to a largest component of V before the film: with
 /// filter importance sampling a pixel is the plain mean of its samples, so no pixel exceeds V
