@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::{SceneDesc, SceneError};
 use foton::scene::io::{obj, ply, serialized};
-use foton::scene::{lxs, mitsuba};
+use foton::scene::lxs;
 
 /// The inputs of one fuzz target, with their paths.
 fn inputs(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
@@ -59,7 +59,7 @@ fn lxs_corpus_replays_without_panics() {
 
 #[test]
 fn xml_corpus_replays_without_panics() {
-    replay_scenes("xml", "scene.xml", mitsuba::load);
+    replay_scenes("xml", "scene.xml", foton::scene::load);
 }
 
 /// Replays a reader fuzzer's inputs as its target does: `read` on each input's bytes.

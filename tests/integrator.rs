@@ -276,7 +276,7 @@ fn shadow_rays_pass_through_null_surfaces() {
     };
     for integrator in [IntegratorKind::PathTracer, IntegratorKind::RayCaster] {
         let options = foton::scene::build::RenderOptions {
-            integrator,
+            integrator: Some(integrator),
             ..options(4, 3)
         };
         let open = render(scene(false), &options);
@@ -344,7 +344,7 @@ fn no_self_intersection_at_large_scales_or_grazing_angles() {
             let expected = 0.5 * theta.cos();
             for integrator in [IntegratorKind::PathTracer, IntegratorKind::RayCaster] {
                 let options = foton::scene::build::RenderOptions {
-                    integrator,
+                    integrator: Some(integrator),
                     ..options(spp, 4)
                 };
                 for pixel in render(scene.clone(), &options) {

@@ -34,7 +34,7 @@ WorldEnd
 /// light (sampled exactly: no noise but the mixes' choices).
 fn mean_radiance(desc: SceneDesc, spp: u32) -> f32 {
     let mut options = common::options(spp, 1);
-    options.integrator = IntegratorKind::PathTracer;
+    options.integrator = Some(IntegratorKind::PathTracer);
     let image = common::render(desc, &options);
     image.iter().map(|p| p.element_sum() / 3.0).sum::<f32>() / image.len() as f32
 }

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use foton::scene::build::{RenderOptions, build_world};
-use foton::scene::mitsuba;
+use foton::scene;
 use libfuzzer_sys::fuzz_target;
 
 /// One scratch folder per fuzzing process: the scene is read from a file, as `foton render` does,
@@ -23,7 +23,7 @@ fn scene_path() -> &'static PathBuf {
 fuzz_target!(|data: &[u8]| {
     let path = scene_path();
     std::fs::write(path, data).expect("the scratch file is writable");
-    if let Ok(desc) = mitsuba::load(path) {
+    if let Ok(desc) = scene::load(path) {
         // A tiny film: the fuzzer looks for crashes in building, not for large allocations.
         let options = RenderOptions {
             resolution: Some((4, 4)),
