@@ -131,11 +131,8 @@ fn cornell_box_matches_mitsuba() {
 }
 
 /// Its disk light has no BSDF: Mitsuba gives an emitter a black one, not its default diffuse 0.5
-/// (which once made foton 0.3 % brighter under the disk). On this branch's base the textured
-/// floor renders black (relMSE 0.38 against noise 0.001): the Mitsuba loader's textures are not
-/// nodes of the texture graph there (main has the fix); un-ignore once merged and passing.
+/// (which once made foton 0.3 % brighter under the disk).
 #[test]
-#[ignore = "the branch's base renders Mitsuba textures black (fixed in main); see docs/mitsuba.md"]
 fn dielectric_conductors_and_textures_match_mitsuba() {
     agrees("materials");
 }
@@ -150,12 +147,9 @@ fn environment_map_matches_mitsuba() {
     agrees("envmap");
 }
 
-/// Fails its mean check (z about 9 at 64 spp): foton is 1.3 % brighter than Mitsuba on the floor
-/// under this scene's rectangle light, also with the spheres and the pane removed (1024 spp each),
-/// so the gap is the light's, as with materials.xml's disk; the relMSE check passes (ratio 1.03,
-/// z 1.2). Run with --ignored.
+/// Its rectangle light has no BSDF either: with the default diffuse 0.5 on it, foton's floor was
+/// 1.3 % brighter than Mitsuba's (mean z about 9 at 64 spp).
 #[test]
-#[ignore = "known: foton's floor 1.3 % brighter than Mitsuba's under this rectangle light, without the BSDFs too"]
 fn rough_glass_plastics_and_thin_glass_match_mitsuba() {
     agrees("coatings");
 }
