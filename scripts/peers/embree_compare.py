@@ -31,7 +31,7 @@ def foton_rays_per_second():
     """Runs the criterion bench for one-thread closest hits; returns its median rays/s (wall)
     and its rays per CPU second."""
     out = subprocess.run(
-        ["cargo", "bench", "--bench", "bvh", "--", "closest_hit_1_thread|build_torus_1m"],
+        ["cargo", "bench", "--bench", "bvh", "--", "--noplot", "closest_hit_1_thread|build_torus_1m"],
         cwd=ROOT, capture_output=True, text=True, check=True).stdout
     print(out)
     unit = {"": 1.0, "K": 1e3, "M": 1e6, "G": 1e9}
