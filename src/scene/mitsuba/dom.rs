@@ -51,7 +51,7 @@ impl<'a> LineIndex<'a> {
 
     /// 1-based line and column (in characters) of a byte offset.
     fn line_col(&self, offset: usize) -> (usize, usize) {
-        let offset = offset.min(self.text.len());
+        let offset = char_boundary(self.text, offset);
         let line = self.starts.partition_point(|&s| s <= offset) - 1;
         let start = self.starts[line];
         let column = self.text[start..offset].chars().count() + 1;
@@ -69,6 +69,16 @@ impl<'a> LineIndex<'a> {
             None => text.to_string(),
         }
     }
+}
+
+/// `offset` moved back to the start of the character it falls in (and to at most the end):
+/// quick-xml skips a byte order mark, so its byte positions can fall inside the mark.
+fn char_boundary(text: &str, offset: usize) -> usize {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    offset
 }
 
 /// Parses `text` (the contents of `file`) into its root element. Malformed XML is an error naming
@@ -89,7 +99,7 @@ pub fn parse_document(
     let mut stack: Vec<Element> = Vec::new();
     let mut roots: Vec<Element> = Vec::new();
     loop {
-        let before = reader.buffer_position() as usize;
+        let before = char_boundary(text, reader.buffer_position() as usize);
         let event = reader.read_event().map_err(|err| {
             let at = reader.error_position() as usize;
             MitsubaError::new(

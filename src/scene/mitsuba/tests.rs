@@ -405,3 +405,13 @@ fn unread_command_line_parameters_are_warnings() {
     assert_eq!(messages.len(), 1, "{messages:?}");
     assert!(messages[0].contains("sp=2"), "{messages:?}");
 }
+
+#[test]
+fn a_byte_order_mark_before_stray_text_is_an_error_not_a_panic() {
+    // Found by the `xml` fuzzer: quick-xml skips the BOM, so its byte positions can fall inside
+    // the mark's three bytes, where the text cannot be sliced.
+    let result = std::panic::catch_unwind(|| {
+        parse("\u{feff}eQ<?xml version=\"1.0\"?>\n<scene version=\"0.5.0\">\n</scene>").map(|_| ())
+    });
+    assert!(result.is_ok(), "parsing panicked");
+}
