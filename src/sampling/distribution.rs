@@ -1,7 +1,4 @@
-//! Piecewise-constant 1D and 2D distributions, sampled by inverting their CDFs
-//! (pbrt-v3 §13.3.1 and §13.6.7).
-
-use glam::Vec2;
+//! Piecewise-constant 1D distributions, sampled by inverting their CDFs (pbrt-v3 §13.3.1).
 
 use super::ONE_MINUS_EPSILON;
 
@@ -113,63 +110,6 @@ impl Distribution1D {
     }
 }
 
-/// A piecewise-constant function on [0,1)^2 (`width` x `height` bins, rows of constant v):
-/// v is sampled from the marginal of the row integrals, then u from that row's conditional.
-#[derive(Clone, Debug)]
-pub struct Distribution2D {
-    conditionals: Vec<Distribution1D>,
-    marginal: Distribution1D,
-}
-
-impl Distribution2D {
-    /// `values` in row-major order; missing values count as 0, a zero size as 1.
-    pub fn new(values: &[f32], width: usize, height: usize) -> Self {
-        let (width, height) = (width.max(1), height.max(1));
-        let conditionals: Vec<Distribution1D> = (0..height)
-            .map(|row| {
-                let start = (row * width).min(values.len());
-                let end = ((row + 1) * width).min(values.len());
-                let mut weights = values[start..end].to_vec();
-                weights.resize(width, 0.0);
-                Distribution1D::new(&weights)
-            })
-            .collect();
-        let row_integrals: Vec<f32> = conditionals.iter().map(|c| c.integral()).collect();
-        Self {
-            marginal: Distribution1D::new(&row_integrals),
-            conditionals,
-        }
-    }
-
-    /// A point in [0,1)^2 with density f(uv) / integral.
-    pub fn sample_continuous(&self, u: Vec2) -> (Vec2, f32) {
-        let (v, pdf_v) = self.marginal.sample_continuous(u.y);
-        let row = &self.conditionals[self.row_of(v)];
-        let (x, pdf_u) = row.sample_continuous(u.x);
-        (Vec2::new(x, v), pdf_u * pdf_v)
-    }
-
-    /// The density of `sample_continuous` at `uv`.
-    pub fn pdf(&self, uv: Vec2) -> f32 {
-        let row = &self.conditionals[self.row_of(uv.y)];
-        let column = bin_of(uv.x, row.count());
-        if self.marginal.integral() > 0.0 {
-            row.func[column] / self.marginal.integral()
-        } else {
-            1.0
-        }
-    }
-
-    fn row_of(&self, v: f32) -> usize {
-        bin_of(v, self.conditionals.len())
-    }
-}
-
-/// The bin of x in [0, 1) among n equal bins, clamped (NaN goes to bin 0).
-fn bin_of(x: f32, n: usize) -> usize {
-    ((x * n as f32).max(0.0) as usize).min(n - 1)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -241,48 +181,5 @@ mod tests {
         // NaN/inf weights are zero; the others still sample.
         let d = Distribution1D::new(&[f32::NAN, 2.0, f32::INFINITY]);
         assert_eq!(d.sample(0.7).0, 1);
-    }
-
-    #[test]
-    fn distribution2d_histogram_matches_values() {
-        // 4 x 3 table with two empty cells: 10 non-empty cells => 9 degrees of freedom; the
-        // 0.999 quantile of chi2(9) is 27.9.
-        let values = [1.0, 2.0, 0.0, 4.0, 0.5, 0.5, 3.0, 1.0, 2.0, 0.0, 6.0, 1.0];
-        let (w, h) = (4, 3);
-        let d = Distribution2D::new(&values, w, h);
-        let total: f32 = values.iter().sum();
-        let probs: Vec<f64> = values.iter().map(|&v| f64::from(v / total)).collect();
-        let n = 100_000;
-        let mut counts = vec![0u32; w * h];
-        let mut rng = PathRng::new(2, 0, 0);
-        for _ in 0..n {
-            let (uv, pdf) = d.sample_continuous(rng.next_2d());
-            assert!(uv.cmpge(Vec2::ZERO).all() && uv.cmplt(Vec2::ONE).all());
-            let cell = bin_of(uv.x, w) + w * bin_of(uv.y, h);
-            // Density = value / mean value.
-            let expected = values[cell] / (total / (w * h) as f32);
-            assert!((pdf - expected).abs() < 1e-4 && (d.pdf(uv) - expected).abs() < 1e-4);
-            counts[cell] += 1;
-        }
-        assert_eq!(counts[2] + counts[9], 0);
-        assert!(chi_square(&counts, &probs, n) < 27.9);
-    }
-
-    #[test]
-    fn distribution2d_pdf_integrates_to_one() {
-        let values: Vec<f32> = (0..64).map(|i| ((i * 37) % 11) as f32).collect();
-        let d = Distribution2D::new(&values, 8, 8);
-        // Midpoint rule, exact for a piecewise-constant density on an aligned grid.
-        let sum: f32 = (0..8 * 8)
-            .map(|i| d.pdf((Vec2::new((i % 8) as f32, (i / 8) as f32) + 0.5) / 8.0))
-            .sum();
-        assert!((sum / 64.0 - 1.0).abs() < 1e-5, "{sum}");
-        // All zero: uniform; short input: missing values are zero, no panic.
-        assert_eq!(
-            Distribution2D::new(&[0.0; 6], 3, 2).pdf(Vec2::splat(0.4)),
-            1.0
-        );
-        let short = Distribution2D::new(&[1.0], 2, 2);
-        assert_eq!(short.sample_continuous(Vec2::splat(0.9)).1, 4.0);
     }
 }

@@ -2,6 +2,7 @@
 //! square to the domains light transport integrates over, and tabulated distributions.
 
 pub mod alias;
+pub mod bilinear;
 pub mod distribution;
 mod divisor;
 mod hash;
@@ -10,7 +11,8 @@ pub mod rng;
 pub mod warp;
 
 pub use alias::AliasTable;
-pub use distribution::{Distribution1D, Distribution2D};
+pub use bilinear::Bilinear2D;
+pub use distribution::Distribution1D;
 pub use divisor::Divisor;
 pub use pixel_sampler::{PassSampler, PixelSampler, SamplerKind};
 pub use rng::PathRng;
