@@ -39,7 +39,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         if let Some((index, environment)) = lights.environment().filter(|_| !hidden) {
             let light = environment.radiance(*path.direction);
             let weight = emission_weight(lights, *path.scatter_pdf, index, || {
-                environment.pdf(*path.direction)
+                environment.pdf_for_mis(*path.direction)
             });
             path.add_radiance(*path.throughput * light * weight);
         }
@@ -90,7 +90,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
         if let Some((index, probability)) = lights.choose(u_choose) {
             shadow = lights.lights[index]
-                .sample(surface.position, u_light)
+                .sample_for_mis(surface.position, u_light)
                 .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
                 .and_then(|sample| {
                     // Light on the other side of the true surface than the shading frame

@@ -42,6 +42,9 @@ struct EnvironmentMap {
     /// Over the grid of texel centres, in (u - 1 / 2w mod 1, v), so that the seam in phi is a
     /// cell of its own (between the last column and the first, repeated at x = 1).
     distribution: Bilinear2D,
+    /// The same over luminance less the sky's mean, for MIS (see [`Environment::sample_for_mis`]);
+    /// `None` for a map within 1 % of constant, where nothing would be left.
+    compensated: Option<Bilinear2D>,
     light_to_world: Mat3,
     world_to_light: Mat3,
 }
@@ -58,21 +61,45 @@ impl EnvironmentMap {
             .chain(std::iter::once(1.0))
             .collect();
         let row_of_vertex = |k: usize| k.saturating_sub(1).min(h - 1);
-        // The density in (u, v) is luminance times sin(theta) (the area element of the
-        // sphere); interpolating the product keeps it zero at the poles.
-        let values: Vec<f32> = ys
-            .iter()
-            .enumerate()
-            .flat_map(|(k, &v)| {
-                let (row, sin_theta) = (row_of_vertex(k), (PI * v).sin().max(0.0));
-                (0..=w).map(move |i| luminance(image.texels[row * w + i % w]) * sin_theta)
-            })
-            .collect();
+        // The density in (u, v) is luminance (less `offset`) times sin(theta) (the area
+        // element of the sphere); interpolating the product keeps it zero at the poles.
+        let vertex_values = |offset: f32| -> Vec<f32> {
+            ys.iter()
+                .enumerate()
+                .flat_map(|(k, &v)| {
+                    let (row, sin_theta) = (row_of_vertex(k), (PI * v).sin().max(0.0));
+                    (0..=w).map(move |i| {
+                        (luminance(image.texels[row * w + i % w]) - offset).max(0.0) * sin_theta
+                    })
+                })
+                .collect()
+        };
+        // The sky's mean luminance over solid angle (rows weighted by sin theta), and its least.
+        let (mut weighted, mut solid_angle, mut least) = (0.0f64, 0.0f64, f32::INFINITY);
+        for (t, texel) in image.texels.iter().enumerate() {
+            let sin_theta = f64::from((PI * ((t / w) as f32 + 0.5) / h as f32).sin());
+            weighted += f64::from(luminance(*texel)) * sin_theta;
+            solid_angle += sin_theta;
+            least = least.min(luminance(*texel));
+        }
+        let mean = (weighted / solid_angle) as f32;
+        let compensated = (mean - least > 0.01 * mean)
+            .then(|| Bilinear2D::new(&vertex_values(mean), xs.clone(), ys.clone()))
+            .filter(|table| table.integral() > 0.0);
         Self {
             image: image.clone(),
-            distribution: Bilinear2D::new(&values, xs, ys),
+            distribution: Bilinear2D::new(&vertex_values(0.0), xs, ys),
+            compensated,
             light_to_world,
             world_to_light: light_to_world.inverse(),
+        }
+    }
+
+    /// The compensated table when asked for and there is one, else the full one.
+    fn table(&self, compensated: bool) -> &Bilinear2D {
+        match &self.compensated {
+            Some(table) if compensated => table,
+            _ => &self.distribution,
         }
     }
 
@@ -125,11 +152,28 @@ impl Environment {
         }
     }
 
+    /// A direction with density proportional to the map's luminance (uniform without a map).
     pub fn sample(&self, u: Vec2) -> Option<LightSample> {
+        self.sample_from(u, false)
+    }
+
+    /// For a light sample that MIS combines with BSDF sampling: the density follows the
+    /// luminance less the sky's mean, zero where the sky is dimmer than its mean. MIS
+    /// compensation (Karlík et al. 2019, "MIS Compensation: Optimizing Sampling Techniques in
+    /// Multiple Importance Sampling"; pbrt-v4's `ImageInfiniteLight` `compensatedDistribution`
+    /// with `allowIncompletePDF`): BSDF sampling already covers the dim sky well, so light
+    /// samples are better spent on what stands out. Unbiased as long as BSDF sampling covers
+    /// every direction light sampling now misses, which holds where MIS is used (non-delta
+    /// BSDFs); `pdf_for_mis` is the matching density for the BSDF sample's MIS weight.
+    pub fn sample_for_mis(&self, u: Vec2) -> Option<LightSample> {
+        self.sample_from(u, true)
+    }
+
+    fn sample_from(&self, u: Vec2, compensated: bool) -> Option<LightSample> {
         let (wi, pdf) = match &self.map {
             None => (uniform_sphere(u), uniform_sphere_pdf()),
             Some(map) => {
-                let (grid, map_pdf) = map.distribution.sample(u)?;
+                let (grid, map_pdf) = map.table(compensated).sample(u)?;
                 let (local, sin_theta) = uv_to_direction(map.uv_of_grid(grid));
                 if map_pdf <= 0.0 || sin_theta <= 0.0 {
                     return None;
@@ -152,6 +196,15 @@ impl Environment {
 
     /// Solid-angle density of `sample` choosing `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
+        self.pdf_from(direction, false)
+    }
+
+    /// Solid-angle density of `sample_for_mis` choosing `direction`.
+    pub fn pdf_for_mis(&self, direction: Vec3) -> f32 {
+        self.pdf_from(direction, true)
+    }
+
+    fn pdf_from(&self, direction: Vec3, compensated: bool) -> f32 {
         match &self.map {
             None => uniform_sphere_pdf(),
             Some(map) => {
@@ -160,7 +213,8 @@ impl Environment {
                 if sin_theta <= 0.0 {
                     return 0.0;
                 }
-                map.distribution.pdf(map.grid_of_uv(direction_to_uv(local)))
+                map.table(compensated)
+                    .pdf(map.grid_of_uv(direction_to_uv(local)))
                     / (2.0 * PI * PI * sin_theta)
             }
         }
@@ -294,6 +348,66 @@ mod tests {
         assert!(
             (mean / exact - 1.0).abs() < tolerance,
             "mean {mean}, exact {exact}, tolerance {tolerance:e}"
+        );
+    }
+
+    /// MIS compensation keeps the estimator unbiased: irradiance at a point under the banded
+    /// sky, by light samples from `sample_for_mis` and cosine-weighted BSDF samples combined
+    /// with the power heuristic (each weighted with the other's density, `pdf_for_mis` for the
+    /// light), against the integral by quadrature. The light density is zero over the grey sky
+    /// (below the mean), which BSDF sampling alone then covers with weight 1.
+    #[test]
+    fn compensated_light_sampling_under_mis_is_unbiased() {
+        use crate::bsdf::frame::Frame;
+        use crate::sampling::warp::{cosine_hemisphere, power_heuristic};
+
+        let sky = banded_sky();
+        let normal = Vec3::new(0.3, 0.5, 0.8).normalize();
+        let frame = Frame::from_z(normal);
+        // Midpoint quadrature over (u, v), d omega = 2 pi^2 sin(theta) du dv.
+        let (nu, nv) = (2048, 1024);
+        let light_to_world = Mat3::from_rotation_x(0.3);
+        let mut exact = 0.0f64;
+        for k in 0..nu * nv {
+            let uv = Vec2::new((k % nu) as f32 + 0.5, (k / nu) as f32 + 0.5)
+                / Vec2::new(nu as f32, nv as f32);
+            let (local, sin_theta) = uv_to_direction(uv);
+            let wi = light_to_world * local;
+            let cos = wi.dot(normal).max(0.0);
+            exact += f64::from(luminance(sky.radiance(wi)) * cos / PI * sin_theta);
+        }
+        exact *= 2.0 * std::f64::consts::PI.powi(2) / (nu * nv) as f64;
+
+        let n = 200_000;
+        let mut rng = PathRng::new(11, 0, 0);
+        let values: Vec<f64> = (0..n)
+            .map(|_| {
+                let mut total = 0.0;
+                if let Some(sample) = sky.sample_for_mis(rng.next_2d()) {
+                    let cos = sample.wi.dot(normal);
+                    if cos > 0.0 {
+                        let weight = power_heuristic(1, sample.pdf, 1, cos / PI);
+                        total += luminance(sample.radiance) * cos / PI * weight / sample.pdf;
+                    }
+                }
+                let wi = frame.to_world(cosine_hemisphere(rng.next_2d()));
+                let bsdf_pdf = wi.dot(normal) / PI;
+                if bsdf_pdf > 0.0 {
+                    let weight = power_heuristic(1, bsdf_pdf, 1, sky.pdf_for_mis(wi));
+                    // f cos / pdf = 1 for a white diffuse surface.
+                    total += luminance(sky.radiance(wi)) * weight;
+                }
+                f64::from(total)
+            })
+            .collect();
+        let mean = values.iter().sum::<f64>() / n as f64;
+        let variance = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+        // Four standard errors, plus the quadrature's error (kinks of the bilinear lookup and
+        // of the horizon, well under 1e-4 relative at this resolution).
+        let tolerance = 4.0 * (variance / n as f64).sqrt() + 1e-4 * exact;
+        assert!(
+            (mean - exact).abs() < tolerance,
+            "mean {mean}, exact {exact}, tolerance {tolerance}"
         );
     }
 }

@@ -52,6 +52,15 @@ impl Light {
             Light::Area(light) => light.sample(p, u),
         }
     }
+
+    /// `sample` for next-event estimation that MIS combines with BSDF sampling: the
+    /// environment then samples its compensated distribution ([`Environment::sample_for_mis`]).
+    pub fn sample_for_mis(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
+        match self {
+            Light::Environment(light) => light.sample_for_mis(u),
+            _ => self.sample(p, u),
+        }
+    }
 }
 
 /// How next-event estimation picks the one light it samples at a vertex.
