@@ -1,6 +1,8 @@
 //! Tests of the BSDFs: energy (white furnace), sampling consistency,
 //! reciprocity, the GGX normalisation, and robustness.
 
+mod common;
+
 use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::frame::Frame;
 use foton::bsdf::fresnel::{fr_dielectric, schlick};
@@ -12,6 +14,8 @@ use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 use std::f32::consts::PI;
+
+use common::chi_square::DirectionGrid;
 
 const N: usize = 100_000;
 
@@ -336,8 +340,6 @@ fn pdf_integrates_to_sampling_success_rate() {
 /// (z, phi) grid of equal solid angle cells.
 #[test]
 fn sampling_histogram_matches_pdf() {
-    const NZ: usize = 16;
-    const NPHI: usize = 32;
     const SAMPLES: usize = 500_000;
     let cases = [
         Bsdf::Lambertian {
@@ -348,59 +350,17 @@ fn sampling_histogram_matches_pdf() {
         oren_nayar(Vec3::ONE, 30.0),
         glossy(Vec3::splat(0.5), Vec3::splat(0.04), 0.05, Vec3::ZERO, 0.0),
     ];
+    let grid = DirectionGrid {
+        z_min: 0.0,
+        nz: 16,
+        nphi: 32,
+        sub: 24,
+    };
     for bsdf in cases {
         let wo = dir(0.9);
         let mut r = rng(10);
-        let mut observed = vec![0.0f64; NZ * NPHI];
-        for _ in 0..SAMPLES {
-            if let Some(s) = bsdf.sample(wo, uniform2(&mut r), 0.5) {
-                let iz = ((s.wi.z * NZ as f32) as usize).min(NZ - 1);
-                let phi = s.wi.y.atan2(s.wi.x).rem_euclid(2.0 * PI);
-                let ip = ((phi / (2.0 * PI) * NPHI as f32) as usize).min(NPHI - 1);
-                observed[iz * NPHI + ip] += 1.0;
-            }
-        }
-        // Expected counts: the pdf integrated over each cell (upper
-        // hemisphere only, 24 x 24 midpoint sub-samples).
-        const SUB: usize = 24;
-        let (dz, dphi) = (1.0 / NZ as f64, 2.0 * std::f64::consts::PI / NPHI as f64);
-        let mut chi2 = 0.0;
-        let mut dof = 0;
-        let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
-        for iz in 0..NZ {
-            for ip in 0..NPHI {
-                let mut cell = 0.0;
-                for a in 0..SUB {
-                    let z = (iz as f64 + (a as f64 + 0.5) / SUB as f64) * dz;
-                    let s = (1.0 - z * z).sqrt();
-                    for b in 0..SUB {
-                        let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dphi;
-                        let wi =
-                            Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
-                        cell += bsdf.pdf(wo, wi) as f64;
-                    }
-                }
-                let expected = cell * dz * dphi / (SUB * SUB) as f64 * SAMPLES as f64;
-                let obs = observed[iz * NPHI + ip];
-                if expected < 5.0 {
-                    pooled_obs += obs;
-                    pooled_exp += expected;
-                } else {
-                    chi2 += (obs - expected).powi(2) / expected;
-                    dof += 1;
-                }
-            }
-        }
-        if pooled_exp >= 5.0 {
-            chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
-            dof += 1;
-        }
-        // Wilson-Hilferty: the chi-square quantile at p = 1e-4 (z = 3.72).
-        let k = (dof - 1) as f64;
-        let c = 2.0 / (9.0 * k);
-        let critical = k * (1.0 - c + 3.72 * c.sqrt()).powi(3);
-        println!("{bsdf:?}: chi2 {chi2} dof {k} critical {critical}");
-        assert!(chi2 < critical, "{bsdf:?}: chi2 {chi2} >= {critical}");
+        let sample = || bsdf.sample(wo, uniform2(&mut r), 0.5).map(|s| s.wi);
+        grid.assert_follows_pdf(&format!("{bsdf:?}"), SAMPLES, sample, |wi| bsdf.pdf(wo, wi));
     }
 }
 
