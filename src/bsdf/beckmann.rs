@@ -27,6 +27,11 @@ impl Beckmann {
         }
     }
 
+    /// Whether the roughness differs along x and y.
+    pub fn is_anisotropic(&self) -> bool {
+        self.alpha_x != self.alpha_y
+    }
+
     /// D(wm) = exp(-tan^2(theta_m) (cos^2 phi / ax^2 + sin^2 phi / ay^2)) / (pi ax ay cos^4 theta_m),
     /// written with the unit vector's coordinates: tan^2 cos^2 phi = x^2 / z^2 (and y likewise).
     /// Its projected area, the integral of D cos(theta_m), is 1.

@@ -39,6 +39,15 @@ impl Microfacet {
         }
     }
 
+    /// Whether the roughness differs along the local x and y axes (the frame's x axis then
+    /// matters).
+    pub fn is_anisotropic(&self) -> bool {
+        match self {
+            Microfacet::TrowbridgeReitz(d) => d.is_anisotropic(),
+            Microfacet::Beckmann(d) => d.is_anisotropic(),
+        }
+    }
+
     /// D(wm), normalised to unit projected area.
     pub fn d(&self, wm: Vec3) -> f32 {
         match self {

@@ -263,6 +263,22 @@ impl Bsdf {
         )
     }
 
+    /// True when the lobes depend on the azimuth about the normal (anisotropic roughness): the
+    /// shading frame's x axis must then follow the surface's dp/du.
+    pub fn is_anisotropic(&self) -> bool {
+        match self {
+            Bsdf::Conductor {
+                alpha_x, alpha_y, ..
+            }
+            | Bsdf::MeasuredConductor {
+                alpha_x, alpha_y, ..
+            } => alpha_x != alpha_y,
+            Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
+            Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
+            _ => false,
+        }
+    }
+
     /// True for an interface between an inside and an outside, whose lobes depend on the side
     /// `wo` is on: the shading normal must not be turned towards the viewer.
     pub fn has_inside(&self) -> bool {
