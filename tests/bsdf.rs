@@ -1,11 +1,11 @@
 //! Tests of the BSDFs: energy (white furnace), sampling consistency,
 //! reciprocity, the GGX normalisation, and robustness.
 
+use foton::bsdf::beckmann::Beckmann;
 use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::frame::Frame;
 use foton::bsdf::fresnel::{fr_dielectric, schlick};
 use foton::bsdf::microfacet::TrowbridgeReitz;
-use foton::bsdf::beckmann::Beckmann;
 use foton::bsdf::microfacet::clamp_alpha;
 use foton::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet};
 use foton::bsdf::oren_nayar::oren_nayar_ab;
@@ -758,7 +758,10 @@ fn complex_fresnel(cos_i: f64, eta: f64, k: f64) -> f64 {
     let rs = div((c.0 - n_cos_t.0, -n_cos_t.1), (c.0 + n_cos_t.0, n_cos_t.1));
     // n cos_t' for r_p: cos_t = n_cos_t / n, so n cos_i - cos_t = (n^2 cos_i - n_cos_t) / n.
     let n2c = (n2.0 * cos_i, n2.1 * cos_i);
-    let rp = div((n2c.0 - n_cos_t.0, n2c.1 - n_cos_t.1), (n2c.0 + n_cos_t.0, n2c.1 + n_cos_t.1));
+    let rp = div(
+        (n2c.0 - n_cos_t.0, n2c.1 - n_cos_t.1),
+        (n2c.0 + n_cos_t.0, n2c.1 + n_cos_t.1),
+    );
     let norm = |a: C| a.0 * a.0 + a.1 * a.1;
     0.5 * (norm(rs) + norm(rp))
 }
@@ -778,12 +781,17 @@ fn smooth_conductor_weight_is_the_complex_fresnel_reflectance() {
         });
         for theta in [0.0f32, 0.5, 1.0, 1.3, 1.5] {
             let wo = dir(theta);
-            let s = bsdf.sample(wo, Vec2::splat(0.5), 0.5).expect("a mirror sample");
+            let s = bsdf
+                .sample(wo, Vec2::splat(0.5), 0.5)
+                .expect("a mirror sample");
             assert!(s.delta);
             let weight = s.f * s.wi.z / s.pdf;
             for c in 0..3 {
                 let expected = complex_fresnel(theta.cos() as f64, eta[c] as f64, k[c] as f64);
-                println!("eta {} k {} theta {theta}: {} vs {expected}", eta[c], k[c], weight[c]);
+                println!(
+                    "eta {} k {} theta {theta}: {} vs {expected}",
+                    eta[c], k[c], weight[c]
+                );
                 assert!(
                     (weight[c] as f64 - expected).abs() < 1e-4,
                     "eta {} k {} theta {theta}: {} vs {expected}",
@@ -827,11 +835,13 @@ fn beckmann_g1_matches_the_exact_smith_term() {
     for theta in [0.3f32, 0.8, 1.1, 1.3, 1.45, 1.55] {
         let w = dir(theta);
         let a = 1.0 / (alpha as f64 * (theta as f64).tan());
-        let exact = 2.0
-            / (1.0 + erf(a) + (-a * a).exp() / (a * std::f64::consts::PI.sqrt()));
+        let exact = 2.0 / (1.0 + erf(a) + (-a * a).exp() / (a * std::f64::consts::PI.sqrt()));
         let g1 = d.g1(w) as f64;
         println!("theta {theta}: G1 {g1} exact {exact}");
-        assert!((g1 - exact).abs() <= 0.0036 * exact + 1e-6, "theta {theta}: {g1} vs {exact}");
+        assert!(
+            (g1 - exact).abs() <= 0.0036 * exact + 1e-6,
+            "theta {theta}: {g1} vs {exact}"
+        );
     }
 }
 
@@ -841,7 +851,10 @@ fn beckmann_g1_matches_the_exact_smith_term() {
 /// within 4 standard errors of its N samples plus 2e-3 of quadrature error.
 #[test]
 fn white_furnace_beckmann_and_separable_ggx() {
-    for kind in [DistributionKind::Beckmann, DistributionKind::TrowbridgeReitz] {
+    for kind in [
+        DistributionKind::Beckmann,
+        DistributionKind::TrowbridgeReitz,
+    ] {
         for (ax, ay) in [(0.05, 0.05), (0.3, 0.3), (0.8, 0.8), (0.1, 0.5)] {
             let bsdf = mitsuba_conductor(kind, Vec3::ZERO, Vec3::ONE, ax, ay);
             for theta in [0.0f32, 0.8, 1.3] {
@@ -863,7 +876,10 @@ fn white_furnace_beckmann_and_separable_ggx() {
                 println!(
                     "{kind:?} ({ax}, {ay}) theta {theta}: quadrature {quadrature}, sampled {mean} +- {se}"
                 );
-                assert!(quadrature <= 1.0 + 2e-3, "{kind:?} ({ax}, {ay}) {theta}: {quadrature}");
+                assert!(
+                    quadrature <= 1.0 + 2e-3,
+                    "{kind:?} ({ax}, {ay}) {theta}: {quadrature}"
+                );
                 assert!(
                     (mean - quadrature).abs() <= 4.0 * se + 2e-3,
                     "{kind:?} ({ax}, {ay}) {theta}: {mean} +- {se} vs {quadrature}"

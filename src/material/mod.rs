@@ -8,9 +8,9 @@ use bevy_ecs::prelude::*;
 use glam::Vec3;
 
 use crate::bsdf::microfacet::TrowbridgeReitz;
+use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
-use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::{
     Bsdf, CoatedGlossy, ConductorFresnel, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
     SmoothConductor, ThinDielectric,

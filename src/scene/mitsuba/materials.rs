@@ -144,7 +144,10 @@ fn conductor_index(cx: &mut Converter, object: &Object) -> (Vec3, Vec3) {
         .string(object, "material")
         .unwrap_or_else(|| "none".into());
     let (eta, k) = if object.prop("eta").is_some() || material == "none" {
-        (cx.rgb(object, "eta", Vec3::ZERO), cx.rgb(object, "k", Vec3::ONE))
+        (
+            cx.rgb(object, "eta", Vec3::ZERO),
+            cx.rgb(object, "k", Vec3::ONE),
+        )
     } else {
         match CONDUCTORS.iter().find(|(n, _, _)| *n == material) {
             Some((_, eta, k)) => (Vec3::from_array(*eta), Vec3::from_array(*k)),
