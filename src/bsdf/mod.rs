@@ -10,6 +10,7 @@
 //! inputs (non-finite or unnormalised directions, samples outside [0, 1)) and
 //! outputs, so that no NaN or infinity escapes.
 
+pub mod beckmann;
 pub mod coated_glossy;
 mod conductor;
 mod dielectric;
@@ -17,23 +18,27 @@ pub mod frame;
 pub mod fresnel;
 mod lambertian;
 pub mod microfacet;
+pub mod microfacet_distribution;
 pub mod oren_nayar;
 pub mod plastic;
 pub mod rough_dielectric;
 pub mod rough_plastic;
+mod smooth_conductor;
 mod specular_reflection;
 pub mod thin_dielectric;
 
 pub use coated_glossy::CoatedGlossy;
-use conductor::{Conductor, ConductorFresnel};
+pub use conductor::{ConductorFresnel, RoughConductor};
 use dielectric::Dielectric;
 use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
+use microfacet_distribution::{Masking, Microfacet};
 use oren_nayar::OrenNayar;
 pub use plastic::Plastic;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
+pub use smooth_conductor::SmoothConductor;
 use specular_reflection::SpecularReflection;
 pub use thin_dielectric::ThinDielectric;
 
@@ -82,6 +87,12 @@ pub enum Bsdf {
     Plastic(Plastic),
     /// A diffuse base under a GGX dielectric coating (Mitsuba's `roughplastic`).
     RoughPlastic(RoughPlastic),
+    /// A microfacet conductor of any Fresnel term, distribution and masking (Mitsuba's
+    /// `roughconductor`).
+    RoughConductor(RoughConductor),
+    /// A smooth conductor: mirror reflection weighted by the exact Fresnel of a complex index
+    /// (Mitsuba's `conductor`).
+    SmoothConductor(SmoothConductor),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -94,6 +105,19 @@ pub struct BsdfSample {
     /// a delta lobe: pdf is a probability, not a density; skip MIS and light
     /// sampling
     pub delta: bool,
+}
+
+impl BsdfSample {
+    /// A sample of a non-delta lobe: `wi` with f(wo, wi) = `f` and density `pdf`, or None where
+    /// the density is 0 (the direction cannot be sampled).
+    pub fn glossy(wi: Vec3, f: Vec3, pdf: f32) -> Option<Self> {
+        (pdf > 0.0).then_some(Self {
+            wi,
+            f,
+            pdf,
+            delta: false,
+        })
+    }
 }
 
 /// The largest f32 below 1, the upper bound of a canonical sample.
@@ -138,9 +162,11 @@ impl Bsdf {
             Bsdf::RoughDielectric(d) => d.eval(wo, wi),
             Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::RoughPlastic(p) => p.eval(wo, wi),
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
-                Vec3::ZERO
-            }
+            Bsdf::RoughConductor(c) => c.eval(wo, wi),
+            Bsdf::SpecularReflection { .. }
+            | Bsdf::Dielectric { .. }
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::SmoothConductor(_) => Vec3::ZERO,
         };
         if f.is_finite() { f } else { Vec3::ZERO }
     }
@@ -169,9 +195,11 @@ impl Bsdf {
             Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
             Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
-                0.0
-            }
+            Bsdf::RoughConductor(c) => c.pdf(wo, wi),
+            Bsdf::SpecularReflection { .. }
+            | Bsdf::Dielectric { .. }
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::SmoothConductor(_) => 0.0,
         };
         if pdf.is_finite() && pdf > 0.0 {
             pdf
@@ -217,6 +245,8 @@ impl Bsdf {
             Bsdf::ThinDielectric(t) => t.sample(wo, canonical(uc)),
             Bsdf::Plastic(p) => p.sample(wo, u, canonical(uc)),
             Bsdf::RoughPlastic(p) => p.sample(wo, u, canonical(uc)),
+            Bsdf::RoughConductor(c) => c.sample(wo, u),
+            Bsdf::SmoothConductor(c) => c.sample(wo),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -226,8 +256,27 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_)
+            Bsdf::SpecularReflection { .. }
+                | Bsdf::Dielectric { .. }
+                | Bsdf::ThinDielectric(_)
+                | Bsdf::SmoothConductor(_)
         )
+    }
+
+    /// True when the lobes depend on the azimuth about the normal (anisotropic roughness): the
+    /// shading frame's x axis must then follow the surface's dp/du.
+    pub fn is_anisotropic(&self) -> bool {
+        match self {
+            Bsdf::Conductor {
+                alpha_x, alpha_y, ..
+            }
+            | Bsdf::MeasuredConductor {
+                alpha_x, alpha_y, ..
+            } => alpha_x != alpha_y,
+            Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
+            Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
+            _ => false,
+        }
     }
 
     /// True for an interface between an inside and an outside, whose lobes depend on the side
@@ -262,13 +311,18 @@ impl Bsdf {
             Bsdf::ThinDielectric(t) => t.albedo(),
             Bsdf::Plastic(p) => p.albedo(),
             Bsdf::RoughPlastic(p) => p.albedo(),
+            Bsdf::RoughConductor(c) => c.reflectance * c.fresnel.eval(1.0),
+            Bsdf::SmoothConductor(c) => c.reflectance * fresnel::fr_conductor(1.0, c.eta, c.k),
         }
     }
 }
 
-fn conductor(fresnel: ConductorFresnel, alpha_x: f32, alpha_y: f32) -> Conductor {
-    Conductor {
+/// LuxRender's metals: GGX with height-correlated masking.
+fn conductor(fresnel: ConductorFresnel, alpha_x: f32, alpha_y: f32) -> RoughConductor {
+    RoughConductor {
+        reflectance: Vec3::ONE,
         fresnel,
-        distribution: TrowbridgeReitz::new(alpha_x, alpha_y),
+        distribution: Microfacet::TrowbridgeReitz(TrowbridgeReitz::new(alpha_x, alpha_y)),
+        masking: Masking::HeightCorrelated,
     }
 }

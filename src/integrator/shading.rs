@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::batch::{HitBatch, PathBatch, ShadowBatch};
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
+use crate::bsdf::frame::Frame;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
 use crate::material::bump::bumped_normal;
@@ -92,6 +93,17 @@ impl Scene<'_> {
         );
         surface.shading_normal = point.n;
         bsdf
+    }
+
+    /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du
+    /// where the roughness is anisotropic (Mitsuba's convention), arbitrary otherwise.
+    pub fn shading_frame(&self, surface: &SurfacePoint, bsdf: &Bsdf) -> Frame {
+        if bsdf.is_anisotropic() {
+            let (dpdu, _) = self.geometry.uv_derivatives(surface.prim, surface.position);
+            Frame::from_z_and_tangent(surface.shading_normal, dpdu)
+        } else {
+            Frame::from_z(surface.shading_normal)
+        }
     }
 }
 
