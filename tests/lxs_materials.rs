@@ -5,7 +5,8 @@ mod common;
 
 use std::path::PathBuf;
 
-use foton::scene::desc::SceneDesc;
+use foton::scene::desc::{MaterialDesc, SceneDesc};
+use glam::Vec3;
 use foton::settings::IntegratorKind;
 
 /// Loads `world` (material and texture lines) over a 2 x 2 quad at z = 0 with uvs 0..1, lit
@@ -112,4 +113,84 @@ MakeNamedMaterial "white" "string type" ["matte"] "color Kd" [1 1 1]"#;
     );
     let ratio = mean_radiance(mixed, 16) / mean_radiance(quarter, 16);
     assert!((ratio - 1.0).abs() < 0.056, "mix / quarter matte {ratio}");
+}
+
+/// The one material of `desc`, with its warnings.
+fn only_material(desc: &SceneDesc) -> &MaterialDesc {
+    assert_eq!(desc.materials.len(), 1, "{:?}", desc.materials);
+    &desc.materials[0]
+}
+
+/// `metal` with a built-in `name` is the exact-Fresnel conductor with that metal's n and k:
+/// gold's index has n well below 1 in red and above 1 in blue (its colour), and Blinn's
+/// exponent 1 / roughness becomes the Beckmann-equivalent alpha sqrt(2 / (e + 2)).
+#[test]
+fn metal_by_name_is_a_measured_conductor() {
+    let desc = quad_scene(
+        "metal-gold",
+        r#"Material "metal" "string name" ["gold"] "float roughness" [0.5]"#,
+    );
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    let MaterialDesc::MeasuredConductor {
+        eta,
+        k,
+        alpha_u,
+        alpha_v,
+    } = only_material(&desc)
+    else {
+        panic!("{:?}", desc.materials)
+    };
+    assert!(eta.x < 0.5 && eta.z > 1.0 && k.x > 2.0, "{eta} {k}");
+    let expected = (2.0f32 / (2.0 + 2.0)).sqrt();
+    assert!((alpha_u - expected).abs() < 1e-6 && alpha_v == alpha_u);
+}
+
+/// `name` naming an `.nk` file (Luxpop: Angstroms, n, k) next to the scene: a flat index reads
+/// back as itself; an unknown name is a warning and aluminium (LuxRender's fallback); a
+/// malformed file is an error naming the `.nk` file and its line.
+#[test]
+fn metal_from_an_nk_file() {
+    let dir = std::env::temp_dir().join("foton-lxs-materials-metal-nk");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("flat.nk"),
+        "; flat index\n3000 0.5 3.0\n9000 0.5 3.0\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("broken.nk"), "3000 0.5 3.0\n9000 0.5 x\n").unwrap();
+    let material = |world: &str| {
+        std::fs::write(
+            dir.join("scene.lxs"),
+            format!(
+                "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n{world}\n\
+                 Shape \"sphere\"\nWorldEnd\n"
+            ),
+        )
+        .unwrap();
+        foton::scene::load(&dir.join("scene.lxs"))
+    };
+    let desc = material(r#"Material "metal" "string name" ["flat.nk"]"#).unwrap();
+    let MaterialDesc::MeasuredConductor { eta, k, .. } = only_material(&desc) else {
+        panic!("{:?}", desc.materials)
+    };
+    assert!((*eta - Vec3::splat(0.5)).abs().max_element() < 1e-4, "{eta}");
+    assert!((*k - Vec3::splat(3.0)).abs().max_element() < 1e-4, "{k}");
+
+    let unknown = material(r#"Material "metal" "string name" ["unobtainium"]"#).unwrap();
+    assert!(
+        unknown
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("unobtainium")),
+        "{:?}",
+        unknown.warnings
+    );
+    assert!(matches!(
+        only_material(&unknown),
+        MaterialDesc::MeasuredConductor { .. }
+    ));
+
+    let error = material(r#"Material "metal" "string name" ["broken.nk"]"#).unwrap_err();
+    assert!(error.location.file.ends_with("broken.nk"), "{error}");
+    assert_eq!(error.location.line, 2, "{error}");
 }

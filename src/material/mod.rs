@@ -59,6 +59,13 @@ pub enum Material {
         alpha_x: f32,
         alpha_y: f32,
     },
+    /// GGX alphas and the exact Fresnel of the complex index `eta` + i `k`.
+    MeasuredConductor {
+        eta: Vec3,
+        k: Vec3,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
     /// GGX reflection and refraction; `eta` = index inside / index outside.
     RoughDielectric {
         reflectance: Color,
@@ -156,7 +163,9 @@ impl MaterialTable {
                 } => &[diffuse, specular],
                 Material::Mix { amount, .. } => &[amount],
                 Material::Bump { .. } => return true,
-                Material::Null | Material::OneSided { .. } => &[],
+                Material::Null | Material::OneSided { .. } | Material::MeasuredConductor { .. } => {
+                    &[]
+                }
             };
             inputs.iter().any(|c| matches!(c, Color::Texture(_)))
         })
@@ -303,6 +312,17 @@ impl Inputs<'_> {
                 alpha_y,
             } => Bsdf::Conductor {
                 f0: color(f0),
+                alpha_x: *alpha_x,
+                alpha_y: *alpha_y,
+            },
+            Material::MeasuredConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => Bsdf::MeasuredConductor {
+                eta: *eta,
+                k: *k,
                 alpha_x: *alpha_x,
                 alpha_y: *alpha_y,
             },

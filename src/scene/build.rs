@@ -390,6 +390,17 @@ fn material(desc: &MaterialDesc) -> Material {
             alpha_x: *alpha_u,
             alpha_y: *alpha_v,
         },
+        MaterialDesc::MeasuredConductor {
+            eta,
+            k,
+            alpha_u,
+            alpha_v,
+        } => Material::MeasuredConductor {
+            eta: *eta,
+            k: *k,
+            alpha_x: *alpha_u,
+            alpha_y: *alpha_v,
+        },
         MaterialDesc::RoughDielectric {
             reflectance,
             transmittance,

@@ -295,6 +295,14 @@ pub enum MaterialDesc {
         alpha_u: f32,
         alpha_v: f32,
     },
+    /// A GGX microfacet conductor of complex index `eta` + i `k` (per RGB channel, relative to
+    /// the outside) with the exact Fresnel term (LuxRender's `metal`).
+    MeasuredConductor {
+        eta: Vec3,
+        k: Vec3,
+        alpha_u: f32,
+        alpha_v: f32,
+    },
     /// A GGX microfacet dielectric interface (Walter et al. 2007): `ior` inside over outside,
     /// `alpha_u`, `alpha_v` the roughness along u and v.
     RoughDielectric {

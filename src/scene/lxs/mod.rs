@@ -4,6 +4,7 @@
 mod camera;
 mod lights;
 mod materials;
+mod nk;
 mod objects;
 mod params;
 mod parser;
