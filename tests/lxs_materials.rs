@@ -5,13 +5,20 @@ mod common;
 
 use std::path::PathBuf;
 
-use foton::scene::desc::{MaterialDesc, SceneDesc};
-use glam::Vec3;
+use std::f32::consts::PI;
+
+use foton::scene::desc::{ColorParam, MaterialDesc, SceneDesc};
 use foton::settings::IntegratorKind;
+use glam::Vec3;
 
 /// Loads `world` (material and texture lines) over a 2 x 2 quad at z = 0 with uvs 0..1, lit
 /// straight down by a distant light and seen from above by a camera that sees only the quad.
 fn quad_scene(name: &str, world: &str) -> SceneDesc {
+    quad_scene_lit_from(name, 1.0, world)
+}
+
+/// [`quad_scene`] with the distant light at z = `light_z` (1: the camera's side, -1: behind).
+fn quad_scene_lit_from(name: &str, light_z: f32, world: &str) -> SceneDesc {
     let dir: PathBuf = std::env::temp_dir().join(format!("foton-lxs-materials-{name}"));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.lxs");
@@ -20,7 +27,7 @@ fn quad_scene(name: &str, world: &str) -> SceneDesc {
 Camera "perspective" "float fov" [20]
 Film "fleximage" "integer xresolution" [32] "integer yresolution" [32]
 WorldBegin
-LightSource "distant" "point from" [0 0 1] "point to" [0 0 0] "color L" [1 1 1]
+LightSource "distant" "point from" [0 0 {light_z}] "point to" [0 0 0] "color L" [1 1 1]
 {world}
 Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
     "point P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] "float uv" [0 0  1 0  1 1  0 1]
@@ -173,7 +180,10 @@ fn metal_from_an_nk_file() {
     let MaterialDesc::MeasuredConductor { eta, k, .. } = only_material(&desc) else {
         panic!("{:?}", desc.materials)
     };
-    assert!((*eta - Vec3::splat(0.5)).abs().max_element() < 1e-4, "{eta}");
+    assert!(
+        (*eta - Vec3::splat(0.5)).abs().max_element() < 1e-4,
+        "{eta}"
+    );
     assert!((*k - Vec3::splat(3.0)).abs().max_element() < 1e-4, "{k}");
 
     let unknown = material(r#"Material "metal" "string name" ["unobtainium"]"#).unwrap();
@@ -193,4 +203,36 @@ fn metal_from_an_nk_file() {
     let error = material(r#"Material "metal" "string name" ["broken.nk"]"#).unwrap_err();
     assert!(error.location.file.ends_with("broken.nk"), "{error}");
     assert_eq!(error.location.line, 2, "{error}");
+}
+
+/// `mattetranslucent` lit from the camera's side, then from behind: with one bounce the
+/// distant light (radiance 1, normal incidence, sampled exactly) gives R / pi and then T / pi,
+/// to float rounding. `energyconserving` scales T by 1 - R.
+#[test]
+fn matte_translucent_reflects_kr_and_transmits_kt() {
+    let material =
+        r#"Material "mattetranslucent" "color Kr" [0.3 0.3 0.3] "color Kt" [0.5 0.5 0.5]"#;
+    let above = quad_scene("translucent-above", material);
+    assert!(above.warnings.is_empty(), "{:?}", above.warnings);
+    let reflected = mean_radiance(above, 2) * PI;
+    assert!((reflected - 0.3).abs() < 1e-5, "R: {reflected}");
+    let below = quad_scene_lit_from("translucent-below", -1.0, material);
+    let transmitted = mean_radiance(below, 2) * PI;
+    assert!((transmitted - 0.5).abs() < 1e-5, "T: {transmitted}");
+
+    let conserving = quad_scene(
+        "translucent-conserving",
+        &format!("{material} \"bool energyconserving\" [\"true\"]"),
+    );
+    let MaterialDesc::DiffuseTranslucent {
+        transmittance: ColorParam::Constant(t),
+        ..
+    } = only_material(&conserving)
+    else {
+        panic!("{:?}", conserving.materials)
+    };
+    assert!(
+        (*t - Vec3::splat(0.5 * 0.7)).abs().max_element() < 1e-6,
+        "{t}"
+    );
 }

@@ -10,7 +10,9 @@ use glam::Vec3;
 use crate::bsdf::microfacet::TrowbridgeReitz;
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
-use crate::bsdf::{Bsdf, CoatedGlossy, Plastic, RoughDielectric, RoughPlastic, ThinDielectric};
+use crate::bsdf::{
+    Bsdf, CoatedGlossy, DiffuseTranslucent, Plastic, RoughDielectric, RoughPlastic, ThinDielectric,
+};
 use crate::texture::ShadingPoint;
 use bump::BumpMap;
 use texture::TextureTable;
@@ -58,6 +60,11 @@ pub enum Material {
         f0: Color,
         alpha_x: f32,
         alpha_y: f32,
+    },
+    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`.
+    DiffuseTranslucent {
+        reflectance: Color,
+        transmittance: Color,
     },
     /// GGX alphas and the exact Fresnel of the complex index `eta` + i `k`.
     MeasuredConductor {
@@ -149,6 +156,10 @@ impl MaterialTable {
                     reflectance,
                     transmittance,
                     ..
+                }
+                | Material::DiffuseTranslucent {
+                    reflectance,
+                    transmittance,
                 }
                 | Material::ThinDielectric {
                     reflectance,
@@ -315,6 +326,13 @@ impl Inputs<'_> {
                 alpha_x: *alpha_x,
                 alpha_y: *alpha_y,
             },
+            Material::DiffuseTranslucent {
+                reflectance,
+                transmittance,
+            } => Bsdf::DiffuseTranslucent(DiffuseTranslucent {
+                reflectance: color(reflectance),
+                transmittance: color(transmittance),
+            }),
             Material::MeasuredConductor {
                 eta,
                 k,

@@ -150,6 +150,7 @@ impl Parser {
                 }
             }
             "metal" => self.metal(line, params)?,
+            "mattetranslucent" => self.matte_translucent(line, params)?,
             "null" => MaterialDesc::Null,
             "mix" => {
                 let mut named = |key: &str| -> Result<usize, SceneError> {
@@ -221,6 +222,41 @@ impl Parser {
             k,
             alpha_u: blinn_alpha(u),
             alpha_v: blinn_alpha(v),
+        })
+    }
+
+    /// `mattetranslucent` (LuxRender 1.x `materials/mattetranslucent.cpp`): Lambertian
+    /// reflection of `Kr` and transmission of `Kt` (both 1, clamped to [0, 1]); with
+    /// `energyconserving` (false) LuxRender scales T by 1 - R so that R + T <= 1. `sigma`
+    /// (Oren-Nayar for both lobes in LuxRender) is read as 0, with a warning.
+    fn matte_translucent(
+        &mut self,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<MaterialDesc, SceneError> {
+        let reflectance = self.color_param(params, "Kr", Vec3::ONE, line)?;
+        let mut transmittance = self.color_param(params, "Kt", Vec3::ONE, line)?;
+        if params.bool("energyconserving")?.unwrap_or(false) {
+            match (reflectance, transmittance) {
+                (ColorParam::Constant(r), ColorParam::Constant(t)) => {
+                    let clamp = |c: Vec3| c.clamp(Vec3::ZERO, Vec3::ONE);
+                    transmittance = ColorParam::Constant(clamp(t) * (Vec3::ONE - clamp(r)));
+                }
+                _ => self.warn(
+                    line,
+                    "mattetranslucent: \"energyconserving\" with textured Kr or Kt unsupported: ignored",
+                ),
+            }
+        }
+        if self.constant_float(params, "sigma", 0.0, line)? > 0.0 {
+            self.warn(
+                line,
+                "mattetranslucent: \"sigma\" (Oren-Nayar lobes) unsupported: Lambertian",
+            );
+        }
+        Ok(MaterialDesc::DiffuseTranslucent {
+            reflectance,
+            transmittance,
         })
     }
 

@@ -1,0 +1,149 @@
+//! The diffuse reflection + transmission BSDF (LuxRender's `mattetranslucent`): energy, its
+//! sampling against its pdf and eval over the whole sphere, reciprocity.
+
+use std::f32::consts::PI;
+
+use foton::bsdf::{Bsdf, DiffuseTranslucent};
+use glam::{Vec2, Vec3};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rand_xoshiro::rand_core::{Rng, SeedableRng};
+
+/// A uniform number in [0, 1) from the top 24 bits.
+fn uniform(r: &mut Xoshiro256PlusPlus) -> f32 {
+    (r.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+}
+
+fn translucent(reflectance: Vec3, transmittance: Vec3) -> Bsdf {
+    Bsdf::DiffuseTranslucent(DiffuseTranslucent {
+        reflectance,
+        transmittance,
+    })
+}
+
+fn cases() -> [Bsdf; 3] {
+    [
+        translucent(Vec3::new(0.3, 0.5, 0.1), Vec3::new(0.6, 0.2, 0.9)),
+        translucent(Vec3::splat(0.8), Vec3::ZERO),
+        translucent(Vec3::ZERO, Vec3::new(0.2, 0.4, 0.6)),
+    ]
+}
+
+fn wo(theta: f32) -> Vec3 {
+    Vec3::new(theta.sin(), 0.0, theta.cos())
+}
+
+/// The directional albedo by importance sampling is R + T (each Lambertian lobe integrates
+/// to its colour), for wo on either side; with R + T = 1 (a white furnace) it is 1. Each
+/// sample's weight f |cos| / pdf is bounded by max(R) + max(T), so the standard error of the
+/// mean of N = 100k is below 1 / sqrt(N) = 0.003: the bound is 5 of those.
+#[test]
+fn albedo_is_r_plus_t() {
+    const N: usize = 100_000;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+    let furnace = translucent(Vec3::splat(0.35), Vec3::splat(0.65));
+    for bsdf in cases().into_iter().chain([furnace]) {
+        let Bsdf::DiffuseTranslucent(d) = bsdf else {
+            unreachable!()
+        };
+        for theta in [0.1f32, 1.0, 1.5, 2.5] {
+            let mut sum = Vec3::ZERO;
+            for _ in 0..N {
+                let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
+                if let Some(s) = bsdf.sample(wo(theta), u, uniform(&mut rng)) {
+                    sum += s.f * s.wi.z.abs() / s.pdf;
+                }
+            }
+            let albedo = sum / N as f32;
+            let expected = d.reflectance + d.transmittance;
+            assert!(
+                (albedo - expected).abs().max_element() < 0.015,
+                "{bsdf:?} theta {theta}: {albedo} vs {expected}"
+            );
+            assert!((bsdf.albedo() - expected).abs().max_element() < 1e-6);
+        }
+    }
+}
+
+/// Sampled values agree with eval and pdf; f is reciprocal.
+#[test]
+fn sample_matches_eval_pdf_and_is_reciprocal() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(2);
+    for bsdf in cases() {
+        for _ in 0..20_000 {
+            let w = wo(uniform(&mut rng) * PI);
+            let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
+            let Some(s) = bsdf.sample(w, u, uniform(&mut rng)) else {
+                continue;
+            };
+            assert!((s.pdf - bsdf.pdf(w, s.wi)).abs() <= 1e-4 * s.pdf.max(1.0));
+            assert!((s.f - bsdf.eval(w, s.wi)).abs().max_element() <= 1e-6);
+            assert!(
+                (bsdf.eval(w, s.wi) - bsdf.eval(s.wi, w))
+                    .abs()
+                    .max_element()
+                    <= 1e-6
+            );
+        }
+    }
+}
+
+/// Pearson's chi-square of sampled directions against the pdf over the whole sphere, on a
+/// (z, phi) grid of equal solid angle cells (z in [-1, 1]); the pdf is integrated over each
+/// cell with the midpoint rule. Critical value: the chi-square quantile at p = 1e-4 by
+/// Wilson-Hilferty.
+#[test]
+fn sampling_histogram_matches_pdf_over_the_sphere() {
+    const NZ: usize = 20;
+    const NPHI: usize = 16;
+    const SAMPLES: usize = 400_000;
+    const SUB: usize = 16;
+    for bsdf in cases() {
+        let w = wo(0.8);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
+        let mut observed = vec![0.0f64; NZ * NPHI];
+        let cell_of = |d: Vec3| {
+            let iz = (((d.z + 1.0) * 0.5 * NZ as f32) as usize).min(NZ - 1);
+            let phi = d.y.atan2(d.x).rem_euclid(2.0 * PI);
+            let ip = ((phi / (2.0 * PI) * NPHI as f32) as usize).min(NPHI - 1);
+            iz * NPHI + ip
+        };
+        for _ in 0..SAMPLES {
+            let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
+            if let Some(s) = bsdf.sample(w, u, uniform(&mut rng)) {
+                observed[cell_of(s.wi)] += 1.0;
+            }
+        }
+        let (dz, dphi) = (2.0 / NZ as f64, 2.0 * std::f64::consts::PI / NPHI as f64);
+        let (mut chi2, mut cells) = (0.0, 0usize);
+        for iz in 0..NZ {
+            for ip in 0..NPHI {
+                let mut integral = 0.0;
+                for a in 0..SUB {
+                    let z = -1.0 + (iz as f64 + (a as f64 + 0.5) / SUB as f64) * dz;
+                    let r = (1.0 - z * z).sqrt();
+                    for b in 0..SUB {
+                        let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dphi;
+                        let d = Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32);
+                        integral += f64::from(bsdf.pdf(w, d));
+                    }
+                }
+                let expected = integral * dz * dphi / (SUB * SUB) as f64 * SAMPLES as f64;
+                let obs = observed[iz * NPHI + ip];
+                if expected >= 5.0 {
+                    chi2 += (obs - expected).powi(2) / expected;
+                    cells += 1;
+                } else {
+                    assert!(
+                        obs <= 5.0 * expected.max(1.0),
+                        "{bsdf:?}: {obs} where {expected}"
+                    );
+                }
+            }
+        }
+        let k = (cells - 1) as f64;
+        let c = 2.0 / (9.0 * k);
+        let critical = k * (1.0 - c + 3.72 * c.sqrt()).powi(3);
+        println!("{bsdf:?}: chi2 {chi2} over {cells} cells, critical {critical}");
+        assert!(chi2 < critical, "{bsdf:?}: chi2 {chi2} >= {critical}");
+    }
+}
