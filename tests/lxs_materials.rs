@@ -236,3 +236,45 @@ fn matte_translucent_reflects_kr_and_transmits_kt() {
         "{t}"
     );
 }
+
+/// `LightSource "sky"` is the Preetham sky as an environment light: a white matte quad under
+/// it (the distant light off) renders blue-white and lit, with no warning; `sunsky` draws the
+/// same sky and says its sun is missing.
+#[test]
+fn sky_light_renders() {
+    let dir = std::env::temp_dir().join("foton-lxs-materials-sky");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |light: &str| {
+        let path = dir.join("scene.lxs");
+        std::fs::write(
+            &path,
+            format!(
+                "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [20]\n\
+                 Film \"fleximage\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n\
+                 WorldBegin\n{light}\nMaterial \"matte\" \"color Kd\" [1 1 1]\n\
+                 Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n\
+                 \"point P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]\nWorldEnd\n"
+            ),
+        )
+        .unwrap();
+        foton::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let sky = scene(
+        r#"LightSource "sky" "float gain" [0.001] "float turbidity" [2.2] "vector sundir" [0.3 0.2 0.9]"#,
+    );
+    assert!(sky.warnings.is_empty(), "{:?}", sky.warnings);
+    let image = common::render(sky, &common::options(16, 1));
+    let mean = image.iter().copied().sum::<Vec3>() / image.len() as f32;
+    assert!(mean.is_finite() && mean.min_element() > 0.0, "{mean}");
+    assert!(
+        mean.z > mean.x,
+        "a clear sky lights the quad blue-white: {mean}"
+    );
+    let sunsky = scene(r#"LightSource "sunsky" "vector sundir" [0 0 1] "float relsize" [1]"#);
+    assert_eq!(sunsky.lights.len(), 1);
+    assert!(
+        sunsky.warnings.iter().any(|w| w.message.contains("sun")),
+        "{:?}",
+        sunsky.warnings
+    );
+}

@@ -11,6 +11,7 @@ mod parser;
 mod paths;
 mod quadrics;
 mod shapes;
+mod sky;
 mod textures;
 mod tokenizer;
 
