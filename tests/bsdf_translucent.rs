@@ -1,6 +1,8 @@
 //! The diffuse reflection + transmission BSDF (LuxRender's `mattetranslucent`): energy, its
 //! sampling against its pdf and eval over the whole sphere, reciprocity.
 
+mod common;
+
 use std::f32::consts::PI;
 
 use foton::bsdf::{Bsdf, DiffuseTranslucent};
@@ -87,63 +89,20 @@ fn sample_matches_eval_pdf_and_is_reciprocal() {
     }
 }
 
-/// Pearson's chi-square of sampled directions against the pdf over the whole sphere, on a
-/// (z, phi) grid of equal solid angle cells (z in [-1, 1]); the pdf is integrated over each
-/// cell with the midpoint rule. Critical value: the chi-square quantile at p = 1e-4 by
-/// Wilson-Hilferty.
+/// Pearson's chi-square of sampled directions against the pdf over the whole sphere
+/// (`common::chi_square_over_sphere`: cells of equal solid angle, p = 1e-4).
 #[test]
 fn sampling_histogram_matches_pdf_over_the_sphere() {
-    const NZ: usize = 20;
-    const NPHI: usize = 16;
-    const SAMPLES: usize = 400_000;
-    const SUB: usize = 16;
     for bsdf in cases() {
         let w = wo(0.8);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
-        let mut observed = vec![0.0f64; NZ * NPHI];
-        let cell_of = |d: Vec3| {
-            let iz = (((d.z + 1.0) * 0.5 * NZ as f32) as usize).min(NZ - 1);
-            let phi = d.y.atan2(d.x).rem_euclid(2.0 * PI);
-            let ip = ((phi / (2.0 * PI) * NPHI as f32) as usize).min(NPHI - 1);
-            iz * NPHI + ip
-        };
-        for _ in 0..SAMPLES {
+        let sample = || {
             let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
-            if let Some(s) = bsdf.sample(w, u, uniform(&mut rng)) {
-                observed[cell_of(s.wi)] += 1.0;
-            }
-        }
-        let (dz, dphi) = (2.0 / NZ as f64, 2.0 * std::f64::consts::PI / NPHI as f64);
-        let (mut chi2, mut cells) = (0.0, 0usize);
-        for iz in 0..NZ {
-            for ip in 0..NPHI {
-                let mut integral = 0.0;
-                for a in 0..SUB {
-                    let z = -1.0 + (iz as f64 + (a as f64 + 0.5) / SUB as f64) * dz;
-                    let r = (1.0 - z * z).sqrt();
-                    for b in 0..SUB {
-                        let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dphi;
-                        let d = Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32);
-                        integral += f64::from(bsdf.pdf(w, d));
-                    }
-                }
-                let expected = integral * dz * dphi / (SUB * SUB) as f64 * SAMPLES as f64;
-                let obs = observed[iz * NPHI + ip];
-                if expected >= 5.0 {
-                    chi2 += (obs - expected).powi(2) / expected;
-                    cells += 1;
-                } else {
-                    assert!(
-                        obs <= 5.0 * expected.max(1.0),
-                        "{bsdf:?}: {obs} where {expected}"
-                    );
-                }
-            }
-        }
-        let k = (cells - 1) as f64;
-        let c = 2.0 / (9.0 * k);
-        let critical = k * (1.0 - c + 3.72 * c.sqrt()).powi(3);
-        println!("{bsdf:?}: chi2 {chi2} over {cells} cells, critical {critical}");
+            bsdf.sample(w, u, uniform(&mut rng)).map(|s| s.wi)
+        };
+        let (chi2, critical) =
+            common::chi_square_over_sphere((20, 16, 16), 400_000, sample, |d| bsdf.pdf(w, d));
+        println!("{bsdf:?}: chi2 {chi2}, critical {critical}");
         assert!(chi2 < critical, "{bsdf:?}: chi2 {chi2} >= {critical}");
     }
 }

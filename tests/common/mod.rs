@@ -260,3 +260,59 @@ pub fn correlation(a: &[f32], b: &[f32]) -> f32 {
     let vb: f32 = b.iter().map(|y| (y - mb).powi(2)).sum();
     cov / (va * vb).sqrt()
 }
+
+/// Pearson's chi-square of directions drawn by `sample` (None: no direction, not counted)
+/// against the density `pdf` over the whole sphere, on `nz` x `nphi` cells of equal solid angle
+/// (z in [-1, 1], phi in [0, 2 pi)); each cell's expected count is the pdf integrated over it
+/// by the midpoint rule on `sub` x `sub` points, and cells expecting fewer than 5 are pooled
+/// into one. Returns the statistic and its critical value at p = 1e-4 (the Wilson-Hilferty
+/// approximation of the chi-square quantile, z = 3.72).
+pub fn chi_square_over_sphere(
+    (nz, nphi, sub): (usize, usize, usize),
+    samples: usize,
+    mut sample: impl FnMut() -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f32,
+) -> (f64, f64) {
+    use std::f32::consts::PI;
+    let mut observed = vec![0.0f64; nz * nphi];
+    for _ in 0..samples {
+        if let Some(w) = sample() {
+            let iz = (((w.z + 1.0) / 2.0 * nz as f32) as usize).min(nz - 1);
+            let phi = w.y.atan2(w.x).rem_euclid(2.0 * PI);
+            observed[iz * nphi + ((phi / (2.0 * PI) * nphi as f32) as usize).min(nphi - 1)] += 1.0;
+        }
+    }
+    let (dz, dphi) = (2.0 / nz as f64, 2.0 * std::f64::consts::PI / nphi as f64);
+    let (mut chi2, mut dof) = (0.0, 0usize);
+    let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
+    for iz in 0..nz {
+        for ip in 0..nphi {
+            let mut integral = 0.0;
+            for a in 0..sub {
+                let z = -1.0 + (iz as f64 + (a as f64 + 0.5) / sub as f64) * dz;
+                let r = (1.0 - z * z).sqrt();
+                for b in 0..sub {
+                    let phi = (ip as f64 + (b as f64 + 0.5) / sub as f64) * dphi;
+                    let wi = Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32);
+                    integral += f64::from(pdf(wi));
+                }
+            }
+            let expected = integral * dz * dphi / (sub * sub) as f64 * samples as f64;
+            let obs = observed[iz * nphi + ip];
+            if expected < 5.0 {
+                pooled_obs += obs;
+                pooled_exp += expected;
+            } else {
+                chi2 += (obs - expected).powi(2) / expected;
+                dof += 1;
+            }
+        }
+    }
+    if pooled_exp >= 5.0 {
+        chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
+        dof += 1;
+    }
+    let k = (dof - 1) as f64;
+    let c = 2.0 / (9.0 * k);
+    (chi2, k * (1.0 - c + 3.72 * c.sqrt()).powi(3))
+}
