@@ -23,7 +23,9 @@ pub struct NkSample {
     pub k: f32,
 }
 
-/// The wavelengths (nm) of LuxRender's SOPRA tables (silver, gold, copper, aluminium).
+/// The wavelengths (nm) of LuxRender's SOPRA tables (silver, gold, copper, aluminium), with
+/// LuxRender's digits (more than an f32 holds).
+#[allow(clippy::excessive_precision)]
 const SOPRA_NM: [f32; 56] = [
     298.757_06, 302.400_43, 306.133_77, 309.960_45, 313.884, 317.908_15, 322.036_83, 326.274_15,
     330.624_48, 335.092_37, 339.682_68, 344.400_5, 349.251_2, 354.240_5, 359.374_43, 364.659_35,
@@ -85,6 +87,8 @@ const ALUMINIUM_N: [f32; 56] = [
     0.755, 0.789, 0.826, 0.867, 0.912, 0.963, 1.02, 1.08, 1.15, 1.22, 1.3, 1.39, 1.49, 1.6, 1.74,
     1.91, 2.14, 2.41, 2.63, 2.8, 2.74, 2.58, 2.24,
 ];
+// 6.28 is a measured k, not 2 pi.
+#[allow(clippy::approx_constant)]
 const ALUMINIUM_K: [f32; 56] = [
     3.59375, 3.64, 3.689375, 3.74, 3.789375, 3.84, 3.894375, 3.95, 4.005, 4.06, 4.11375, 4.17,
     4.23375, 4.3, 4.365, 4.43, 4.49375, 4.56, 4.63375, 4.71, 4.784375, 4.86, 4.938125, 5.02,
@@ -331,7 +335,7 @@ mod tests {
         // Photon energies 2 eV to 3 eV in 2 lines: samples at 2 eV (619.9 nm) and 2.5 eV.
         let samples = parse_nk("1 2.0 3.0 2\n0.2 3.0\n0.4 2.0\n").unwrap();
         assert_eq!(samples.len(), 2);
-        let ev = |nm: f32| 1239.841_9 / nm;
+        let ev = |nm: f32| 1_239.841_9 / nm;
         assert!((ev(samples[1].nm) - 2.0).abs() < 1e-3, "{samples:?}");
         assert!((ev(samples[0].nm) - 2.5).abs() < 1e-3, "{samples:?}");
         assert_eq!((samples[1].n, samples[1].k), (0.2, 3.0));

@@ -106,7 +106,7 @@ impl PreethamSky {
     /// Linear sRGB radiance in unit direction `d` (negative components, outside the gamut, 0).
     pub fn radiance(&self, d: Vec3) -> Vec3 {
         let (luminance, x, y) = self.luminance_xy(d);
-        if !(y > 0.0) {
+        if y.is_nan() || y <= 0.0 {
             return Vec3::ZERO;
         }
         let xyz = Vec3::new(x / y * luminance, luminance, (1.0 - x - y) / y * luminance);
@@ -145,8 +145,8 @@ mod tests {
 
     /// At the zenith the model gives the zenith luminance of the paper's appendix A.2: for
     /// T = 2 and the sun 30 degrees high (theta_s = 60 degrees), by hand: chi =
-    /// (4/9 - 2/120) (pi - 2 pi/3) = 0.447 94, tan chi = 0.480 48, Y_z = 1000 (3.1196 x 0.480 48
-    /// - 0.431 + 2.4192) = 3487 cd/m^2. And x_z, y_z for the sun at the zenith (theta_s = 0)
+    /// (4/9 - 2/120) (pi - 2 pi/3) = 0.447 94, tan chi = 0.480 48, Y_z = 1000 (3.1196 x
+    /// 0.480 48 + 2.4192 - 0.431) = 3487 cd/m^2. And x_z, y_z for the sun at the zenith (theta_s = 0)
     /// are the constant terms: x_z = 0.00394 T + 0.25886, y_z = 0.00516 T + 0.26688.
     #[test]
     fn zenith_values_are_the_papers() {
