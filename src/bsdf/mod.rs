@@ -14,6 +14,7 @@ pub mod beckmann;
 pub mod coated_glossy;
 mod conductor;
 mod dielectric;
+pub mod diffuse_translucent;
 pub mod frame;
 pub mod fresnel;
 mod lambertian;
@@ -30,6 +31,7 @@ pub mod thin_dielectric;
 pub use coated_glossy::CoatedGlossy;
 pub use conductor::{ConductorFresnel, RoughConductor};
 use dielectric::Dielectric;
+pub use diffuse_translucent::DiffuseTranslucent;
 use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
@@ -83,6 +85,8 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// A thin sheet: mirror reflection, straight transmission (Mitsuba's `thindielectric`).
     ThinDielectric(ThinDielectric),
+    /// Diffuse reflection and diffuse transmission (LuxRender's `mattetranslucent`).
+    DiffuseTranslucent(DiffuseTranslucent),
     /// A diffuse base under a smooth dielectric coating (Mitsuba's `plastic`).
     Plastic(Plastic),
     /// A diffuse base under a GGX dielectric coating (Mitsuba's `roughplastic`).
@@ -160,6 +164,7 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
             Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
             Bsdf::RoughDielectric(d) => d.eval(wo, wi),
+            Bsdf::DiffuseTranslucent(d) => d.eval(wo, wi),
             Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::RoughPlastic(p) => p.eval(wo, wi),
             Bsdf::RoughConductor(c) => c.eval(wo, wi),
@@ -193,6 +198,7 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
             Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
             Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
+            Bsdf::DiffuseTranslucent(d) => d.pdf(wo, wi),
             Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
             Bsdf::RoughConductor(c) => c.pdf(wo, wi),
@@ -242,6 +248,7 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
             Bsdf::CoatedGlossy(c) => c.sample(wo, u),
             Bsdf::RoughDielectric(d) => d.sample(wo, u, canonical(uc)),
+            Bsdf::DiffuseTranslucent(d) => d.sample(wo, u, canonical(uc)),
             Bsdf::ThinDielectric(t) => t.sample(wo, canonical(uc)),
             Bsdf::Plastic(p) => p.sample(wo, u, canonical(uc)),
             Bsdf::RoughPlastic(p) => p.sample(wo, u, canonical(uc)),
@@ -308,6 +315,7 @@ impl Bsdf {
             // The coating reflects about Ks; the base shows through the rest.
             Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,
             Bsdf::RoughDielectric(d) => d.albedo(),
+            Bsdf::DiffuseTranslucent(d) => d.albedo(),
             Bsdf::ThinDielectric(t) => t.albedo(),
             Bsdf::Plastic(p) => p.albedo(),
             Bsdf::RoughPlastic(p) => p.albedo(),

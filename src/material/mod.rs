@@ -12,8 +12,8 @@ use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::{
-    Bsdf, CoatedGlossy, ConductorFresnel, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
-    SmoothConductor, ThinDielectric,
+    Bsdf, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic, RoughConductor,
+    RoughDielectric, RoughPlastic, SmoothConductor, ThinDielectric,
 };
 use crate::texture::ShadingPoint;
 use bump::BumpMap;
@@ -62,6 +62,11 @@ pub enum Material {
         f0: Color,
         alpha_x: f32,
         alpha_y: f32,
+    },
+    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`.
+    DiffuseTranslucent {
+        reflectance: Color,
+        transmittance: Color,
     },
     /// A conductor of complex index `eta` + i `k` with the exact Fresnel term, scaled by
     /// `reflectance`: a mirror for `distribution` None, else rough (Mitsuba's separable masking).
@@ -155,6 +160,10 @@ impl MaterialTable {
                     reflectance,
                     transmittance,
                     ..
+                }
+                | Material::DiffuseTranslucent {
+                    reflectance,
+                    transmittance,
                 }
                 | Material::ThinDielectric {
                     reflectance,
@@ -338,6 +347,13 @@ impl Inputs<'_> {
                 alpha_x: *alpha_x,
                 alpha_y: *alpha_y,
             },
+            Material::DiffuseTranslucent {
+                reflectance,
+                transmittance,
+            } => Bsdf::DiffuseTranslucent(DiffuseTranslucent {
+                reflectance: color(reflectance),
+                transmittance: color(transmittance),
+            }),
             Material::ComplexConductor {
                 reflectance,
                 eta,

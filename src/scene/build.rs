@@ -392,6 +392,13 @@ fn material(desc: &MaterialDesc) -> Material {
             alpha_x: *alpha_u,
             alpha_y: *alpha_v,
         },
+        MaterialDesc::DiffuseTranslucent {
+            reflectance,
+            transmittance,
+        } => Material::DiffuseTranslucent {
+            reflectance: color(reflectance),
+            transmittance: color(transmittance),
+        },
         MaterialDesc::Conductor {
             reflectance,
             eta,

@@ -295,6 +295,12 @@ pub enum MaterialDesc {
         alpha_u: f32,
         alpha_v: f32,
     },
+    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`
+    /// (LuxRender's `mattetranslucent`).
+    DiffuseTranslucent {
+        reflectance: ColorParam,
+        transmittance: ColorParam,
+    },
     /// A conductor of complex index `eta` + i `k` (relative to the outside) with the exact
     /// Fresnel term, its lobe scaled by `reflectance`: smooth (a mirror) for `roughness` None.
     Conductor {
