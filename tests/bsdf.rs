@@ -1,17 +1,23 @@
 //! Tests of the BSDFs: energy (white furnace), sampling consistency,
 //! reciprocity, the GGX normalisation, and robustness.
 
+mod common;
+
+use foton::bsdf::beckmann::Beckmann;
 use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::frame::Frame;
 use foton::bsdf::fresnel::{fr_dielectric, schlick};
 use foton::bsdf::microfacet::TrowbridgeReitz;
 use foton::bsdf::microfacet::clamp_alpha;
+use foton::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet};
 use foton::bsdf::oren_nayar::oren_nayar_ab;
-use foton::bsdf::{Bsdf, CoatedGlossy};
+use foton::bsdf::{Bsdf, CoatedGlossy, ConductorFresnel, RoughConductor, SmoothConductor};
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 use std::f32::consts::PI;
+
+use common::chi_square::DirectionGrid;
 
 const N: usize = 100_000;
 
@@ -69,6 +75,20 @@ fn conductor(alpha_x: f32, alpha_y: f32) -> Bsdf {
         alpha_y,
     }
 }
+
+/// Mitsuba's rough conductor: the exact Fresnel of eta + i k, separable masking.
+fn mitsuba_conductor(kind: DistributionKind, eta: Vec3, k: Vec3, ax: f32, ay: f32) -> Bsdf {
+    Bsdf::RoughConductor(RoughConductor {
+        reflectance: Vec3::ONE,
+        fresnel: ConductorFresnel::Complex { eta, k },
+        distribution: Microfacet::new(kind, ax, ay),
+        masking: Masking::Separable,
+    })
+}
+
+/// Copper's RGB index as Mitsuba 3.9.1's RGB variants give it (`src/scene/mitsuba/conductors.rs`).
+const CU_ETA: Vec3 = Vec3::new(0.201005, 0.92375, 1.10222);
+const CU_K: Vec3 = Vec3::new(3.91326, 2.45305, 2.14209);
 
 fn oren_nayar(reflectance: Vec3, sigma_degrees: f32) -> Bsdf {
     let (a, b) = oren_nayar_ab(sigma_degrees);
@@ -247,6 +267,9 @@ fn non_delta_bsdfs() -> Vec<Bsdf> {
             alpha_x: 0.3,
             alpha_y: 0.15,
         },
+        mitsuba_conductor(DistributionKind::Beckmann, CU_ETA, CU_K, 0.2, 0.2),
+        mitsuba_conductor(DistributionKind::Beckmann, Vec3::ZERO, Vec3::ONE, 0.05, 0.5),
+        mitsuba_conductor(DistributionKind::TrowbridgeReitz, CU_ETA, CU_K, 0.4, 0.1),
         oren_nayar(Vec3::new(0.8, 0.5, 0.2), 20.0),
         oren_nayar(Vec3::ONE, 60.0),
         glossy(
@@ -277,6 +300,12 @@ fn sample_matches_eval_and_pdf() {
             let Some(s) = bsdf.sample(wo, uniform2(&mut r), uniform(&mut r)) else {
                 continue;
             };
+            // The half vector of nearly opposite directions (grazing backscatter, which
+            // Beckmann's full-distribution sampling draws) is ill-conditioned in f32: a rounding
+            // of wi moves it by more than the tolerance.
+            if (wo + s.wi).length() < 0.05 {
+                continue;
+            }
             assert!(!s.delta);
             let pdf = bsdf.pdf(wo, s.wi);
             let f = bsdf.eval(wo, s.wi);
@@ -336,8 +365,6 @@ fn pdf_integrates_to_sampling_success_rate() {
 /// (z, phi) grid of equal solid angle cells.
 #[test]
 fn sampling_histogram_matches_pdf() {
-    const NZ: usize = 16;
-    const NPHI: usize = 32;
     const SAMPLES: usize = 500_000;
     let cases = [
         Bsdf::Lambertian {
@@ -345,62 +372,23 @@ fn sampling_histogram_matches_pdf() {
         },
         conductor(0.5, 0.5),
         conductor(0.3, 0.8),
+        mitsuba_conductor(DistributionKind::Beckmann, Vec3::ZERO, Vec3::ONE, 0.4, 0.4),
+        mitsuba_conductor(DistributionKind::Beckmann, CU_ETA, CU_K, 0.15, 0.6),
+        mitsuba_conductor(DistributionKind::TrowbridgeReitz, CU_ETA, CU_K, 0.6, 0.15),
         oren_nayar(Vec3::ONE, 30.0),
         glossy(Vec3::splat(0.5), Vec3::splat(0.04), 0.05, Vec3::ZERO, 0.0),
     ];
+    let grid = DirectionGrid {
+        z_min: 0.0,
+        nz: 16,
+        nphi: 32,
+        sub: 24,
+    };
     for bsdf in cases {
         let wo = dir(0.9);
         let mut r = rng(10);
-        let mut observed = vec![0.0f64; NZ * NPHI];
-        for _ in 0..SAMPLES {
-            if let Some(s) = bsdf.sample(wo, uniform2(&mut r), 0.5) {
-                let iz = ((s.wi.z * NZ as f32) as usize).min(NZ - 1);
-                let phi = s.wi.y.atan2(s.wi.x).rem_euclid(2.0 * PI);
-                let ip = ((phi / (2.0 * PI) * NPHI as f32) as usize).min(NPHI - 1);
-                observed[iz * NPHI + ip] += 1.0;
-            }
-        }
-        // Expected counts: the pdf integrated over each cell (upper
-        // hemisphere only, 24 x 24 midpoint sub-samples).
-        const SUB: usize = 24;
-        let (dz, dphi) = (1.0 / NZ as f64, 2.0 * std::f64::consts::PI / NPHI as f64);
-        let mut chi2 = 0.0;
-        let mut dof = 0;
-        let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
-        for iz in 0..NZ {
-            for ip in 0..NPHI {
-                let mut cell = 0.0;
-                for a in 0..SUB {
-                    let z = (iz as f64 + (a as f64 + 0.5) / SUB as f64) * dz;
-                    let s = (1.0 - z * z).sqrt();
-                    for b in 0..SUB {
-                        let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dphi;
-                        let wi =
-                            Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
-                        cell += bsdf.pdf(wo, wi) as f64;
-                    }
-                }
-                let expected = cell * dz * dphi / (SUB * SUB) as f64 * SAMPLES as f64;
-                let obs = observed[iz * NPHI + ip];
-                if expected < 5.0 {
-                    pooled_obs += obs;
-                    pooled_exp += expected;
-                } else {
-                    chi2 += (obs - expected).powi(2) / expected;
-                    dof += 1;
-                }
-            }
-        }
-        if pooled_exp >= 5.0 {
-            chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
-            dof += 1;
-        }
-        // Wilson-Hilferty: the chi-square quantile at p = 1e-4 (z = 3.72).
-        let k = (dof - 1) as f64;
-        let c = 2.0 / (9.0 * k);
-        let critical = k * (1.0 - c + 3.72 * c.sqrt()).powi(3);
-        println!("{bsdf:?}: chi2 {chi2} dof {k} critical {critical}");
-        assert!(chi2 < critical, "{bsdf:?}: chi2 {chi2} >= {critical}");
+        let sample = || bsdf.sample(wo, uniform2(&mut r), 0.5).map(|s| s.wi);
+        grid.assert_follows_pdf(&format!("{bsdf:?}"), SAMPLES, sample, |wi| bsdf.pdf(wo, wi));
     }
 }
 
@@ -703,4 +691,174 @@ fn coated_glossy_energy() {
             < 1e-7
     );
     assert_eq!(coating_f0(Vec3::splat(0.3), 0.0), Vec3::splat(0.3));
+}
+
+/// The unpolarised Fresnel reflectance of a conductor from the complex Fresnel equations
+/// themselves (Born and Wolf §14.2), in f64 complex arithmetic: with n = eta + i k and
+/// cos_t = sqrt(n^2 - sin^2 theta) / n (Snell), r_s = (cos_i - n cos_t) / (cos_i + n cos_t),
+/// r_p = (n cos_i - cos_t) / (n cos_i + cos_t), F = (|r_s|^2 + |r_p|^2) / 2.
+fn complex_fresnel(cos_i: f64, eta: f64, k: f64) -> f64 {
+    type C = (f64, f64);
+    let mul = |a: C, b: C| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
+    let div = |a: C, b: C| {
+        let d = b.0 * b.0 + b.1 * b.1;
+        ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
+    };
+    let sqrt = |a: C| {
+        let r = (a.0 * a.0 + a.1 * a.1).sqrt();
+        let re = ((r + a.0) / 2.0).sqrt();
+        let im = ((r - a.0) / 2.0).sqrt().copysign(a.1);
+        (re, im)
+    };
+    let n = (eta, k);
+    let n2 = mul(n, n);
+    let sin2 = 1.0 - cos_i * cos_i;
+    let n_cos_t = sqrt((n2.0 - sin2, n2.1));
+    let c = (cos_i, 0.0);
+    let rs = div((c.0 - n_cos_t.0, -n_cos_t.1), (c.0 + n_cos_t.0, n_cos_t.1));
+    // n cos_t' for r_p: cos_t = n_cos_t / n, so n cos_i - cos_t = (n^2 cos_i - n_cos_t) / n.
+    let n2c = (n2.0 * cos_i, n2.1 * cos_i);
+    let rp = div(
+        (n2c.0 - n_cos_t.0, n2c.1 - n_cos_t.1),
+        (n2c.0 + n_cos_t.0, n2c.1 + n_cos_t.1),
+    );
+    let norm = |a: C| a.0 * a.0 + a.1 * a.1;
+    0.5 * (norm(rs) + norm(rp))
+}
+
+/// Mitsuba's smooth conductor reflects the exact Fresnel reflectance of its complex index at
+/// the angle of incidence (not Schlick's curve): the sample weight f cos / pdf against the
+/// complex Fresnel equations at several angles, for copper's three channels and for Mitsuba's
+/// default (eta 0, k 1: a perfect mirror).
+#[test]
+fn smooth_conductor_weight_is_the_complex_fresnel_reflectance() {
+    let cases = [(CU_ETA, CU_K), (Vec3::ZERO, Vec3::ONE)];
+    for (eta, k) in cases {
+        let bsdf = Bsdf::SmoothConductor(SmoothConductor {
+            reflectance: Vec3::ONE,
+            eta,
+            k,
+        });
+        for theta in [0.0f32, 0.5, 1.0, 1.3, 1.5] {
+            let wo = dir(theta);
+            let s = bsdf
+                .sample(wo, Vec2::splat(0.5), 0.5)
+                .expect("a mirror sample");
+            assert!(s.delta);
+            let weight = s.f * s.wi.z / s.pdf;
+            for c in 0..3 {
+                let expected = complex_fresnel(theta.cos() as f64, eta[c] as f64, k[c] as f64);
+                println!(
+                    "eta {} k {} theta {theta}: {} vs {expected}",
+                    eta[c], k[c], weight[c]
+                );
+                assert!(
+                    (weight[c] as f64 - expected).abs() < 1e-4,
+                    "eta {} k {} theta {theta}: {} vs {expected}",
+                    eta[c],
+                    k[c],
+                    weight[c]
+                );
+            }
+        }
+    }
+}
+
+/// The Beckmann distribution's projected area, the integral of D(h) cos(theta_h), is 1.
+#[test]
+fn beckmann_d_projected_area_is_one() {
+    for (ax, ay) in [(0.05, 0.05), (0.2, 0.2), (0.6, 0.6), (1.0, 1.0), (0.1, 0.5)] {
+        let d = Beckmann::new(ax, ay);
+        let integral = integrate_sphere(400_000, 128, |h| d.d(h) * h.z.max(0.0));
+        println!("Beckmann ({ax}, {ay}): {integral}");
+        assert!((integral - 1.0).abs() < 2e-3, "({ax}, {ay}): {integral}");
+    }
+}
+
+/// Mitsuba's rational Smith G1 for Beckmann is within its documented 0.35 % of the exact
+/// 2 / (1 + erf(a) + exp(-a^2) / (a sqrt(pi))) (Walter et al. 2007, eq. 25), with the error
+/// function by Simpson's rule (error below 1e-12 here).
+#[test]
+fn beckmann_g1_matches_the_exact_smith_term() {
+    let erf = |x: f64| {
+        // Simpson's rule on 2/sqrt(pi) exp(-t^2) over [0, x], 2000 intervals.
+        let n = 2000;
+        let h = x / n as f64;
+        let g = |t: f64| (-t * t).exp();
+        let inner: f64 = (1..n)
+            .map(|i| (if i % 2 == 1 { 4.0 } else { 2.0 }) * g(i as f64 * h))
+            .sum();
+        2.0 / std::f64::consts::PI.sqrt() * h / 3.0 * (g(0.0) + inner + g(x))
+    };
+    let alpha = 0.5f32;
+    let d = Beckmann::new(alpha, alpha);
+    for theta in [0.3f32, 0.8, 1.1, 1.3, 1.45, 1.55] {
+        let w = dir(theta);
+        let a = 1.0 / (alpha as f64 * (theta as f64).tan());
+        let exact = 2.0 / (1.0 + erf(a) + (-a * a).exp() / (a * std::f64::consts::PI.sqrt()));
+        let g1 = d.g1(w) as f64;
+        println!("theta {theta}: G1 {g1} exact {exact}");
+        assert!(
+            (g1 - exact).abs() <= 0.0036 * exact + 1e-6,
+            "theta {theta}: {g1} vs {exact}"
+        );
+    }
+}
+
+/// Energy of Mitsuba's rough conductors with F = 1 (eta 0, k 1): the directional albedo, the
+/// integral of f cos over the hemisphere, is at most 1 (the separable masking only loses
+/// energy), and the estimate from `sample` agrees with the midpoint-rule integral of `eval`
+/// within 4 standard errors of its N samples plus 2e-3 of quadrature error.
+#[test]
+fn white_furnace_beckmann_and_separable_ggx() {
+    for kind in [
+        DistributionKind::Beckmann,
+        DistributionKind::TrowbridgeReitz,
+    ] {
+        for (ax, ay) in [(0.05, 0.05), (0.3, 0.3), (0.8, 0.8), (0.1, 0.5)] {
+            let bsdf = mitsuba_conductor(kind, Vec3::ZERO, Vec3::ONE, ax, ay);
+            for theta in [0.0f32, 0.8, 1.3] {
+                let wo = dir(theta);
+                let quadrature =
+                    integrate_sphere(8000, 2000, |wi| bsdf.eval(wo, wi).x * wi.z.max(0.0));
+                let mut r = rng(12);
+                let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+                for _ in 0..N {
+                    let (u, uc) = (uniform2(&mut r), uniform(&mut r));
+                    if let Some(s) = bsdf.sample(wo, u, uc) {
+                        let x = (s.f.x * s.wi.z / s.pdf) as f64;
+                        sum += x;
+                        sum2 += x * x;
+                    }
+                }
+                let mean = sum / N as f64;
+                let se = ((sum2 / N as f64 - mean * mean).max(0.0) / N as f64).sqrt();
+                println!(
+                    "{kind:?} ({ax}, {ay}) theta {theta}: quadrature {quadrature}, sampled {mean} +- {se}"
+                );
+                assert!(
+                    quadrature <= 1.0 + 2e-3,
+                    "{kind:?} ({ax}, {ay}) {theta}: {quadrature}"
+                );
+                assert!(
+                    (mean - quadrature).abs() <= 4.0 * se + 2e-3,
+                    "{kind:?} ({ax}, {ay}) {theta}: {mean} +- {se} vs {quadrature}"
+                );
+            }
+        }
+    }
+}
+
+/// The anisotropic frame: orthonormal, right-handed, z the normal and x along the tangent's
+/// part orthogonal to it; a tangent along the normal falls back to `from_z`.
+#[test]
+fn frame_from_tangent_follows_the_tangent() {
+    let n = Vec3::new(0.3, -0.2, 0.9).normalize();
+    let t = Vec3::new(1.0, 0.5, 0.2);
+    let f = Frame::from_z_and_tangent(n, t);
+    let projected = (t - n * n.dot(t)).normalize();
+    assert!((f.x - projected).length() < 1e-5, "{:?}", f);
+    assert!((f.x.cross(f.y) - f.z).length() < 1e-5);
+    assert!(f.x.dot(f.y).abs() < 1e-5 && f.y.length() > 0.9999);
+    assert_eq!(Frame::from_z_and_tangent(n, 2.0 * n), Frame::from_z(n));
 }

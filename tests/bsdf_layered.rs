@@ -3,6 +3,8 @@
 //! conserved, known reflectances, sampling against eval and pdf (also by chi-square, with the
 //! lobe choice random), reciprocity (generalised for refraction), and robustness.
 
+mod common;
+
 use foton::bsdf::fresnel::fr_dielectric;
 use foton::bsdf::microfacet::TrowbridgeReitz;
 use foton::bsdf::plastic::internal_reflectance;
@@ -12,6 +14,8 @@ use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 use std::f32::consts::PI;
+
+use common::chi_square::DirectionGrid;
 
 const N: usize = 200_000;
 
@@ -208,69 +212,27 @@ fn sample_matches_eval_and_pdf() {
 /// p = 1e-4 from the Wilson-Hilferty approximation.
 #[test]
 fn sampling_histogram_matches_pdf() {
-    const NZ: usize = 24;
-    const NPHI: usize = 32;
     const SAMPLES: usize = 400_000;
-    const SUB: usize = 12;
     let mut cases: Vec<(Bsdf, Vec3)> = glossy_cases()
         .into_iter()
         .map(|(b, _)| (b, dir(0.8)))
         .collect();
     cases.push((rough_glass(1.5, 0.4, 0.4), -dir(0.5)));
     cases.push((plastic(Vec3::splat(0.5), 1.5, false), dir(0.8)));
+    let grid = DirectionGrid {
+        z_min: -1.0,
+        nz: 24,
+        nphi: 32,
+        sub: 12,
+    };
     for (bsdf, wo) in cases {
         let mut s = Sampler::new(6);
-        let mut observed = vec![0.0f64; NZ * NPHI];
-        let cell = |w: Vec3| {
-            let iz = (((w.z + 1.0) / 2.0 * NZ as f32) as usize).min(NZ - 1);
-            let phi = w.y.atan2(w.x).rem_euclid(2.0 * PI);
-            iz * NPHI + ((phi / (2.0 * PI) * NPHI as f32) as usize).min(NPHI - 1)
+        let sample = || {
+            (bsdf.sample(wo, s.next2(), s.next()))
+                .filter(|b| !b.delta)
+                .map(|b| b.wi)
         };
-        let mut non_delta = 0usize;
-        for _ in 0..SAMPLES {
-            if let Some(b) = bsdf.sample(wo, s.next2(), s.next())
-                && !b.delta
-            {
-                observed[cell(b.wi)] += 1.0;
-                non_delta += 1;
-            }
-        }
-        let (dz, dphi) = (2.0 / NZ as f64, 2.0 * std::f64::consts::PI / NPHI as f64);
-        let (mut chi2, mut dof) = (0.0, 0usize);
-        let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
-        for iz in 0..NZ {
-            for ip in 0..NPHI {
-                let mut integral = 0.0;
-                for a in 0..SUB {
-                    let z = -1.0 + (iz as f64 + (a as f64 + 0.5) / SUB as f64) * dz;
-                    let r = (1.0 - z * z).sqrt();
-                    for b in 0..SUB {
-                        let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dphi;
-                        let wi =
-                            Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32);
-                        integral += bsdf.pdf(wo, wi) as f64;
-                    }
-                }
-                let expected = integral * dz * dphi / (SUB * SUB) as f64 * SAMPLES as f64;
-                let obs = observed[iz * NPHI + ip];
-                if expected < 5.0 {
-                    pooled_obs += obs;
-                    pooled_exp += expected;
-                } else {
-                    chi2 += (obs - expected).powi(2) / expected;
-                    dof += 1;
-                }
-            }
-        }
-        if pooled_exp >= 5.0 {
-            chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
-            dof += 1;
-        }
-        let k = (dof - 1) as f64;
-        let c = 2.0 / (9.0 * k);
-        let critical = k * (1.0 - c + 3.72 * c.sqrt()).powi(3);
-        println!("{bsdf:?}: chi2 {chi2} dof {k} critical {critical}, {non_delta} non-delta");
-        assert!(chi2 < critical, "{bsdf:?}: chi2 {chi2} >= {critical}");
+        grid.assert_follows_pdf(&format!("{bsdf:?}"), SAMPLES, sample, |wi| bsdf.pdf(wo, wi));
     }
 }
 

@@ -7,18 +7,7 @@ use std::process::{Command, Output};
 
 use foton::film::{read_exr, read_png_linear};
 
-fn foton(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_foton"))
-        .args(args)
-        .output()
-        .expect("the foton binary runs")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("foton-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+use common::{foton, stderr, stdout, temp_dir};
 
 fn project_scene(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -26,14 +15,6 @@ fn project_scene(name: &str) -> String {
         .join(name)
         .display()
         .to_string()
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
 #[test]

@@ -5,12 +5,20 @@ mod common;
 
 use std::path::PathBuf;
 
-use foton::scene::desc::SceneDesc;
+use std::f32::consts::PI;
+
+use foton::scene::desc::{ColorParam, MaterialDesc, Roughness, SceneDesc};
 use foton::settings::IntegratorKind;
+use glam::Vec3;
 
 /// Loads `world` (material and texture lines) over a 2 x 2 quad at z = 0 with uvs 0..1, lit
 /// straight down by a distant light and seen from above by a camera that sees only the quad.
 fn quad_scene(name: &str, world: &str) -> SceneDesc {
+    quad_scene_lit_from(name, 1.0, world)
+}
+
+/// [`quad_scene`] with the distant light at z = `light_z` (1: the camera's side, -1: behind).
+fn quad_scene_lit_from(name: &str, light_z: f32, world: &str) -> SceneDesc {
     let dir: PathBuf = std::env::temp_dir().join(format!("foton-lxs-materials-{name}"));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.lxs");
@@ -19,7 +27,7 @@ fn quad_scene(name: &str, world: &str) -> SceneDesc {
 Camera "perspective" "float fov" [20]
 Film "fleximage" "integer xresolution" [32] "integer yresolution" [32]
 WorldBegin
-LightSource "distant" "point from" [0 0 1] "point to" [0 0 0] "color L" [1 1 1]
+LightSource "distant" "point from" [0 0 {light_z}] "point to" [0 0 0] "color L" [1 1 1]
 {world}
 Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
     "point P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] "float uv" [0 0  1 0  1 1  0 1]
@@ -112,4 +120,163 @@ MakeNamedMaterial "white" "string type" ["matte"] "color Kd" [1 1 1]"#;
     );
     let ratio = mean_radiance(mixed, 16) / mean_radiance(quarter, 16);
     assert!((ratio - 1.0).abs() < 0.056, "mix / quarter matte {ratio}");
+}
+
+/// The one material of `desc`, with its warnings.
+fn only_material(desc: &SceneDesc) -> &MaterialDesc {
+    assert_eq!(desc.materials.len(), 1, "{:?}", desc.materials);
+    &desc.materials[0]
+}
+
+/// `metal` with a built-in `name` is the exact-Fresnel conductor with that metal's n and k:
+/// gold's index has n well below 1 in red and above 1 in blue (its colour), and Blinn's
+/// exponent 1 / roughness becomes the Beckmann-equivalent alpha sqrt(2 / (e + 2)).
+#[test]
+fn metal_by_name_is_a_measured_conductor() {
+    let desc = quad_scene(
+        "metal-gold",
+        r#"Material "metal" "string name" ["gold"] "float roughness" [0.5]"#,
+    );
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    let MaterialDesc::Conductor {
+        eta,
+        k,
+        roughness: Some(Roughness {
+            alpha_u, alpha_v, ..
+        }),
+        ..
+    } = only_material(&desc)
+    else {
+        panic!("{:?}", desc.materials)
+    };
+    assert!(eta.x < 0.5 && eta.z > 1.0 && k.x > 2.0, "{eta} {k}");
+    let expected = (2.0f32 / (2.0 + 2.0)).sqrt();
+    assert!((alpha_u - expected).abs() < 1e-6 && alpha_v == alpha_u);
+}
+
+/// `name` naming an `.nk` file (Luxpop: Angstroms, n, k) next to the scene: a flat index reads
+/// back as itself; an unknown name is a warning and aluminium (LuxRender's fallback); a
+/// malformed file is an error naming the `.nk` file and its line.
+#[test]
+fn metal_from_an_nk_file() {
+    let dir = std::env::temp_dir().join("foton-lxs-materials-metal-nk");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("flat.nk"),
+        "; flat index\n3000 0.5 3.0\n9000 0.5 3.0\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("broken.nk"), "3000 0.5 3.0\n9000 0.5 x\n").unwrap();
+    let material = |world: &str| {
+        std::fs::write(
+            dir.join("scene.lxs"),
+            format!(
+                "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n{world}\n\
+                 Shape \"sphere\"\nWorldEnd\n"
+            ),
+        )
+        .unwrap();
+        foton::scene::load(&dir.join("scene.lxs"))
+    };
+    let desc = material(r#"Material "metal" "string name" ["flat.nk"]"#).unwrap();
+    let MaterialDesc::Conductor { eta, k, .. } = only_material(&desc) else {
+        panic!("{:?}", desc.materials)
+    };
+    assert!(
+        (*eta - Vec3::splat(0.5)).abs().max_element() < 1e-4,
+        "{eta}"
+    );
+    assert!((*k - Vec3::splat(3.0)).abs().max_element() < 1e-4, "{k}");
+
+    let unknown = material(r#"Material "metal" "string name" ["unobtainium"]"#).unwrap();
+    assert!(
+        unknown
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("unobtainium")),
+        "{:?}",
+        unknown.warnings
+    );
+    assert!(matches!(
+        only_material(&unknown),
+        MaterialDesc::Conductor { .. }
+    ));
+
+    let error = material(r#"Material "metal" "string name" ["broken.nk"]"#).unwrap_err();
+    assert!(error.location.file.ends_with("broken.nk"), "{error}");
+    assert_eq!(error.location.line, 2, "{error}");
+}
+
+/// `mattetranslucent` lit from the camera's side, then from behind: with one bounce the
+/// distant light (radiance 1, normal incidence, sampled exactly) gives R / pi and then T / pi,
+/// to float rounding. `energyconserving` scales T by 1 - R.
+#[test]
+fn matte_translucent_reflects_kr_and_transmits_kt() {
+    let material =
+        r#"Material "mattetranslucent" "color Kr" [0.3 0.3 0.3] "color Kt" [0.5 0.5 0.5]"#;
+    let above = quad_scene("translucent-above", material);
+    assert!(above.warnings.is_empty(), "{:?}", above.warnings);
+    let reflected = mean_radiance(above, 2) * PI;
+    assert!((reflected - 0.3).abs() < 1e-5, "R: {reflected}");
+    let below = quad_scene_lit_from("translucent-below", -1.0, material);
+    let transmitted = mean_radiance(below, 2) * PI;
+    assert!((transmitted - 0.5).abs() < 1e-5, "T: {transmitted}");
+
+    let conserving = quad_scene(
+        "translucent-conserving",
+        &format!("{material} \"bool energyconserving\" [\"true\"]"),
+    );
+    let MaterialDesc::DiffuseTranslucent {
+        transmittance: ColorParam::Constant(t),
+        ..
+    } = only_material(&conserving)
+    else {
+        panic!("{:?}", conserving.materials)
+    };
+    assert!(
+        (*t - Vec3::splat(0.5 * 0.7)).abs().max_element() < 1e-6,
+        "{t}"
+    );
+}
+
+/// `LightSource "sky"` is the Preetham sky as an environment light: a white matte quad under
+/// it (the distant light off) renders blue-white and lit, with no warning; `sunsky` draws the
+/// same sky and says its sun is missing.
+#[test]
+fn sky_light_renders() {
+    let dir = std::env::temp_dir().join("foton-lxs-materials-sky");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |light: &str| {
+        let path = dir.join("scene.lxs");
+        std::fs::write(
+            &path,
+            format!(
+                "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [20]\n\
+                 Film \"fleximage\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n\
+                 WorldBegin\n{light}\nMaterial \"matte\" \"color Kd\" [1 1 1]\n\
+                 Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n\
+                 \"point P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]\nWorldEnd\n"
+            ),
+        )
+        .unwrap();
+        foton::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let sky = scene(
+        r#"LightSource "sky" "float gain" [0.001] "float turbidity" [2.2] "vector sundir" [0.3 0.2 0.9]"#,
+    );
+    assert!(sky.warnings.is_empty(), "{:?}", sky.warnings);
+    let image = common::render(sky, &common::options(16, 1));
+    let mean = image.iter().copied().sum::<Vec3>() / image.len() as f32;
+    assert!(mean.is_finite() && mean.min_element() > 0.0, "{mean}");
+    assert!(
+        mean.z > mean.x,
+        "a clear sky lights the quad blue-white: {mean}"
+    );
+    let sunsky = scene(r#"LightSource "sunsky" "vector sundir" [0 0 1] "float relsize" [1]"#);
+    assert_eq!(sunsky.lights.len(), 1);
+    assert!(
+        sunsky.warnings.iter().any(|w| w.message.contains("sun")),
+        "{:?}",
+        sunsky.warnings
+    );
 }

@@ -153,3 +153,11 @@ fn environment_map_matches_mitsuba() {
 fn rough_glass_plastics_and_thin_glass_match_mitsuba() {
     agrees("coatings");
 }
+
+/// Named conductors (Cu smooth, Au rough) and `eta`/`k` through the exact complex Fresnel,
+/// Mitsuba's default Beckmann distribution, and anisotropic alphas along dp/du (a GGX sphere, a
+/// Beckmann floor).
+#[test]
+fn conductors_beckmann_and_anisotropy_match_mitsuba() {
+    agrees("metals");
+}

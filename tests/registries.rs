@@ -1,23 +1,13 @@
 //! The registries: scene formats by file extension (`scene::LOADERS`), cameras by name
 //! (`camera::CAMERAS`), and the command line's `--camera`, which takes its values from the latter.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use std::path::Path;
 
 use foton::camera::{self, CAMERAS};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("foton-registry-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn foton(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_foton"))
-        .args(args)
-        .output()
-        .expect("the foton binary runs")
-}
+use common::{foton, temp_dir};
 
 const WORLD: &str = "WorldBegin\nWorldEnd\n";
 

@@ -1,37 +1,20 @@
 //! Renders split into parts (`foton render --passes`, `--crop`) and merged (`foton merge`): the
 //! merged image is the one render's, bit for bit; parts that do not belong together are refused.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use foton::film::part::read_part;
 use foton::film::read_exr;
 
+use common::{foton, stderr, stdout, temp_dir};
+
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell.lxs");
 /// A small render of the Cornell box (Blackman-Harris filter of radius 1.5, splatted: samples
 /// reach neighbouring pixels, which crops must account for).
 const SETTINGS: [&str; 6] = ["--resolution", "40x28", "--spp", "8", "--seed", "5"];
-
-fn foton(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_foton"))
-        .args(args)
-        .output()
-        .expect("the foton binary runs")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("foton-merge-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
 
 fn path(p: &Path) -> &str {
     p.to_str().expect("a UTF-8 path")

@@ -123,12 +123,6 @@ impl CoatedGlossy {
             let h = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
             2.0 * wo.dot(h) * h - wo
         };
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            f: self.eval(wo, wi),
-            pdf,
-            delta: false,
-        })
+        BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))
     }
 }

@@ -4,23 +4,27 @@
 //!
 //!   f(wo, wi) = D(wh) G(wo, wi) F(wo . wh) / (4 |cos theta_o| |cos theta_i|)
 //!
-//! with wh = normalize(wo + wi), D the GGX distribution, G the
-//! height-correlated Smith term (see `microfacet.rs`), and F either Schlick's
-//! approximation with F0 = Kr, the colour the scene gives (LuxRender's
-//! metal2 takes a Fresnel texture; the course's scenes give a colour), or the
-//! exact conductor Fresnel of a complex index (LuxRender's `metal`).
-//! Sampling draws visible normals (Heitz 2018), so the estimator weight
-//! f |cos theta_i| / pdf = F G / G1(wo).
+//! with wh = normalize(wo + wi), D the GGX or Beckmann distribution, G Smith's term
+//! (height-correlated for LuxRender's metals, separable as Mitsuba 3's `roughconductor`; see
+//! `microfacet_distribution.rs`), and F either Schlick's approximation with F0 = Kr, the
+//! colour the scene gives (LuxRender's metal2 takes a Fresnel texture; the course's scenes give
+//! a colour), or the exact conductor Fresnel of a complex index (LuxRender's `metal`, Mitsuba's
+//! conductors), times a `reflectance` factor (Mitsuba's `specular_reflectance`).
+//! Sampling draws visible normals for GGX (Heitz 2018), so the estimator weight
+//! f |cos theta_i| / pdf = F G / G1(wo); all normals for Beckmann.
 
 use super::BsdfSample;
 use super::fresnel::{fr_conductor, schlick};
-use super::microfacet::TrowbridgeReitz;
+use super::microfacet_distribution::{Masking, Microfacet};
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
-pub struct Conductor {
+pub struct RoughConductor {
+    /// A factor on the whole lobe (1 for a physical conductor).
+    pub reflectance: Vec3,
     pub fresnel: ConductorFresnel,
-    pub distribution: TrowbridgeReitz,
+    pub distribution: Microfacet,
+    pub masking: Masking,
 }
 
 /// A conductor's reflectance against the angle to the microfacet normal.
@@ -50,7 +54,7 @@ fn half_vector(wo: Vec3, wi: Vec3) -> Option<Vec3> {
     }
 }
 
-impl Conductor {
+impl RoughConductor {
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let Some(wh) = half_vector(wo, wi) else {
             return Vec3::ZERO;
@@ -59,11 +63,11 @@ impl Conductor {
         if denom <= 0.0 {
             return Vec3::ZERO;
         }
-        let dg = self.distribution.d(wh) * self.distribution.g(wo, wi);
-        self.fresnel.eval(wo.dot(wh)) * (dg / denom)
+        let dg = self.distribution.d(wh) * self.distribution.g(wo, wi, self.masking);
+        self.reflectance * self.fresnel.eval(wo.dot(wh)) * (dg / denom)
     }
 
-    /// The visible-normal density mapped through reflection, whose Jacobian
+    /// The density of sampled normals mapped through reflection, whose Jacobian
     /// is d(wh)/d(wi) = 1 / (4 |wo . wh|) (Walter et al. 2007, eq. 14).
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let Some(wh) = half_vector(wo, wi) else {
@@ -73,7 +77,7 @@ impl Conductor {
         if cos_oh <= 0.0 {
             return 0.0;
         }
-        self.distribution.d_visible(wo, wh) / (4.0 * cos_oh)
+        self.distribution.pdf_wm(wo, wh) / (4.0 * cos_oh)
     }
 
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
@@ -83,12 +87,6 @@ impl Conductor {
         let wh = self.distribution.sample_wm(wo, u);
         // Reflect wo about the sampled microfacet normal.
         let wi = 2.0 * wo.dot(wh) * wh - wo;
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            f: self.eval(wo, wi),
-            pdf,
-            delta: false,
-        })
+        BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))
     }
 }

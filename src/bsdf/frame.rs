@@ -26,6 +26,25 @@ impl Frame {
         }
     }
 
+    /// A frame around the unit normal `n` whose x axis is `tangent` made orthogonal to `n`
+    /// (Gram-Schmidt), as Mitsuba 3 orients anisotropic BSDFs along dp/du
+    /// (`SurfaceInteraction::initialize_sh_frame`); `from_z` where the tangent is parallel to
+    /// `n` (to 1e-6 of its length) or not finite.
+    pub fn from_z_and_tangent(n: Vec3, tangent: Vec3) -> Self {
+        let x = tangent - n * n.dot(tangent);
+        if x.length_squared() > 1e-12 * tangent.length_squared()
+            && let Some(x) = x.try_normalize()
+        {
+            Self {
+                x,
+                y: n.cross(x),
+                z: n,
+            }
+        } else {
+            Self::from_z(n)
+        }
+    }
+
     /// World to local: the coordinates of `v` along `x`, `y`, `z`.
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))

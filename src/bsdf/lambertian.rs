@@ -44,11 +44,5 @@ pub fn sample_cosine_lobe(wo: Vec3, u: Vec2, eval: impl Fn(Vec3) -> Vec3) -> Opt
         return None;
     }
     let wi = cosine_hemisphere(u);
-    let pdf = cosine_lobe_pdf(wo, wi);
-    (pdf > 0.0).then(|| BsdfSample {
-        wi,
-        f: eval(wi),
-        pdf,
-        delta: false,
-    })
+    BsdfSample::glossy(wi, eval(wi), cosine_lobe_pdf(wo, wi))
 }

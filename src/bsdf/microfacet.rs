@@ -41,6 +41,11 @@ impl TrowbridgeReitz {
         }
     }
 
+    /// Whether the roughness differs along x and y.
+    pub fn is_anisotropic(&self) -> bool {
+        self.alpha_x != self.alpha_y
+    }
+
     /// D(wm), the density of microfacet normals per solid angle, normalised
     /// so that the projected area is 1: the integral of D(wm) cos(theta_m)
     /// over the hemisphere is 1. For a unit wm, Walter's

@@ -10,30 +10,37 @@
 //! inputs (non-finite or unnormalised directions, samples outside [0, 1)) and
 //! outputs, so that no NaN or infinity escapes.
 
+pub mod beckmann;
 pub mod coated_glossy;
 mod conductor;
 mod dielectric;
+pub mod diffuse_translucent;
 pub mod frame;
 pub mod fresnel;
 mod lambertian;
 pub mod microfacet;
+pub mod microfacet_distribution;
 pub mod oren_nayar;
 pub mod plastic;
 pub mod rough_dielectric;
 pub mod rough_plastic;
+mod smooth_conductor;
 mod specular_reflection;
 pub mod thin_dielectric;
 
 pub use coated_glossy::CoatedGlossy;
-use conductor::{Conductor, ConductorFresnel};
+pub use conductor::{ConductorFresnel, RoughConductor};
 use dielectric::Dielectric;
+pub use diffuse_translucent::DiffuseTranslucent;
 use glam::{Vec2, Vec3};
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
+use microfacet_distribution::{Masking, Microfacet};
 use oren_nayar::OrenNayar;
 pub use plastic::Plastic;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
+pub use smooth_conductor::SmoothConductor;
 use specular_reflection::SpecularReflection;
 pub use thin_dielectric::ThinDielectric;
 
@@ -78,10 +85,18 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// A thin sheet: mirror reflection, straight transmission (Mitsuba's `thindielectric`).
     ThinDielectric(ThinDielectric),
+    /// Diffuse reflection and diffuse transmission (LuxRender's `mattetranslucent`).
+    DiffuseTranslucent(DiffuseTranslucent),
     /// A diffuse base under a smooth dielectric coating (Mitsuba's `plastic`).
     Plastic(Plastic),
     /// A diffuse base under a GGX dielectric coating (Mitsuba's `roughplastic`).
     RoughPlastic(RoughPlastic),
+    /// A microfacet conductor of any Fresnel term, distribution and masking (Mitsuba's
+    /// `roughconductor`).
+    RoughConductor(RoughConductor),
+    /// A smooth conductor: mirror reflection weighted by the exact Fresnel of a complex index
+    /// (Mitsuba's `conductor`).
+    SmoothConductor(SmoothConductor),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -94,6 +109,19 @@ pub struct BsdfSample {
     /// a delta lobe: pdf is a probability, not a density; skip MIS and light
     /// sampling
     pub delta: bool,
+}
+
+impl BsdfSample {
+    /// A sample of a non-delta lobe: `wi` with f(wo, wi) = `f` and density `pdf`, or None where
+    /// the density is 0 (the direction cannot be sampled).
+    pub fn glossy(wi: Vec3, f: Vec3, pdf: f32) -> Option<Self> {
+        (pdf > 0.0).then_some(Self {
+            wi,
+            f,
+            pdf,
+            delta: false,
+        })
+    }
 }
 
 /// The largest f32 below 1, the upper bound of a canonical sample.
@@ -136,11 +164,14 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
             Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
             Bsdf::RoughDielectric(d) => d.eval(wo, wi),
+            Bsdf::DiffuseTranslucent(d) => d.eval(wo, wi),
             Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::RoughPlastic(p) => p.eval(wo, wi),
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
-                Vec3::ZERO
-            }
+            Bsdf::RoughConductor(c) => c.eval(wo, wi),
+            Bsdf::SpecularReflection { .. }
+            | Bsdf::Dielectric { .. }
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::SmoothConductor(_) => Vec3::ZERO,
         };
         if f.is_finite() { f } else { Vec3::ZERO }
     }
@@ -167,11 +198,14 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
             Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
             Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
+            Bsdf::DiffuseTranslucent(d) => d.pdf(wo, wi),
             Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_) => {
-                0.0
-            }
+            Bsdf::RoughConductor(c) => c.pdf(wo, wi),
+            Bsdf::SpecularReflection { .. }
+            | Bsdf::Dielectric { .. }
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::SmoothConductor(_) => 0.0,
         };
         if pdf.is_finite() && pdf > 0.0 {
             pdf
@@ -214,9 +248,12 @@ impl Bsdf {
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
             Bsdf::CoatedGlossy(c) => c.sample(wo, u),
             Bsdf::RoughDielectric(d) => d.sample(wo, u, canonical(uc)),
+            Bsdf::DiffuseTranslucent(d) => d.sample(wo, u, canonical(uc)),
             Bsdf::ThinDielectric(t) => t.sample(wo, canonical(uc)),
             Bsdf::Plastic(p) => p.sample(wo, u, canonical(uc)),
             Bsdf::RoughPlastic(p) => p.sample(wo, u, canonical(uc)),
+            Bsdf::RoughConductor(c) => c.sample(wo, u),
+            Bsdf::SmoothConductor(c) => c.sample(wo),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -226,8 +263,27 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Bsdf::SpecularReflection { .. } | Bsdf::Dielectric { .. } | Bsdf::ThinDielectric(_)
+            Bsdf::SpecularReflection { .. }
+                | Bsdf::Dielectric { .. }
+                | Bsdf::ThinDielectric(_)
+                | Bsdf::SmoothConductor(_)
         )
+    }
+
+    /// True when the lobes depend on the azimuth about the normal (anisotropic roughness): the
+    /// shading frame's x axis must then follow the surface's dp/du.
+    pub fn is_anisotropic(&self) -> bool {
+        match self {
+            Bsdf::Conductor {
+                alpha_x, alpha_y, ..
+            }
+            | Bsdf::MeasuredConductor {
+                alpha_x, alpha_y, ..
+            } => alpha_x != alpha_y,
+            Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
+            Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
+            _ => false,
+        }
     }
 
     /// True for an interface between an inside and an outside, whose lobes depend on the side
@@ -259,16 +315,22 @@ impl Bsdf {
             // The coating reflects about Ks; the base shows through the rest.
             Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,
             Bsdf::RoughDielectric(d) => d.albedo(),
+            Bsdf::DiffuseTranslucent(d) => d.albedo(),
             Bsdf::ThinDielectric(t) => t.albedo(),
             Bsdf::Plastic(p) => p.albedo(),
             Bsdf::RoughPlastic(p) => p.albedo(),
+            Bsdf::RoughConductor(c) => c.reflectance * c.fresnel.eval(1.0),
+            Bsdf::SmoothConductor(c) => c.reflectance * fresnel::fr_conductor(1.0, c.eta, c.k),
         }
     }
 }
 
-fn conductor(fresnel: ConductorFresnel, alpha_x: f32, alpha_y: f32) -> Conductor {
-    Conductor {
+/// LuxRender's metals: GGX with height-correlated masking.
+fn conductor(fresnel: ConductorFresnel, alpha_x: f32, alpha_y: f32) -> RoughConductor {
+    RoughConductor {
+        reflectance: Vec3::ONE,
         fresnel,
-        distribution: TrowbridgeReitz::new(alpha_x, alpha_y),
+        distribution: Microfacet::TrowbridgeReitz(TrowbridgeReitz::new(alpha_x, alpha_y)),
+        masking: Masking::HeightCorrelated,
     }
 }

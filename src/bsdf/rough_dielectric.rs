@@ -117,13 +117,7 @@ impl RoughDielectric {
             let (wi, _) = refract(wo, wm, self.eta())?;
             (wi.z * wo.z < 0.0).then_some(wi)?
         };
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            f: self.eval(wo, wi),
-            pdf,
-            delta: false,
-        })
+        BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))
     }
 
     /// Kr and Kt blended by the Fresnel reflectance at normal incidence, as for smooth glass.

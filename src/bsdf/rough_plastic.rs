@@ -185,13 +185,7 @@ impl RoughPlastic {
         } else {
             cosine_hemisphere(u)
         };
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            f: self.eval(wo, wi),
-            pdf,
-            delta: false,
-        })
+        BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))
     }
 
     /// The coating's reflectance at normal incidence, and the base through the rest.

@@ -83,6 +83,11 @@ impl PixelFilter {
         }
     }
 
+    /// Whether this is the one-pixel box: f = 1 on the pixel, 0 beyond (radius 0.5).
+    pub fn is_pixel_box(&self) -> bool {
+        self.kind == FilterKind::Box && self.radius == Vec2::splat(0.5)
+    }
+
     /// The weight of a sample drawn by [`PixelFilter::sample`] at `offset`: 1 for non-negative
     /// filters; sign(f(offset)) times the per-axis ratios of the integrals of |f| and f
     /// otherwise (see the module comment).

@@ -81,7 +81,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         *path.alive = false;
         return None;
     }
-    let frame = crate::bsdf::frame::Frame::from_z(surface.shading_normal);
+    let frame = scene.shading_frame(&surface, &bsdf);
     let wo_local = frame.to_local(wo);
 
     // Next-event estimation: one light, chosen by power.

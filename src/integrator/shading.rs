@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::batch::{HitBatch, PathBatch, ShadowBatch};
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
+use crate::bsdf::frame::Frame;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
 use crate::material::bump::bumped_normal;
@@ -93,6 +94,17 @@ impl Scene<'_> {
         surface.shading_normal = point.n;
         bsdf
     }
+
+    /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du
+    /// where the roughness is anisotropic (Mitsuba's convention), arbitrary otherwise.
+    pub fn shading_frame(&self, surface: &SurfacePoint, bsdf: &Bsdf) -> Frame {
+        if bsdf.is_anisotropic() {
+            let (dpdu, _) = self.geometry.uv_derivatives(surface.prim, surface.position);
+            Frame::from_z_and_tangent(surface.shading_normal, dpdu)
+        } else {
+            Frame::from_z(surface.shading_normal)
+        }
+    }
 }
 
 /// One path's slots in the batch.
@@ -160,6 +172,11 @@ impl ShadowSlots<'_> {
     }
 }
 
+/// Paths per task of a shading stage. Tasks are blocks of consecutive paths, each shaded by a
+/// plain loop over its slices: zipping the eleven path fields and four shadow fields path by
+/// path through rayon cost more per path than a diffuse vertex's BSDF sample.
+const SHADE_BLOCK: usize = 256;
+
 /// Runs `shade` on every live path, in parallel, with its hit, its slots and its (emptied)
 /// shadow-ray slots.
 pub fn shade_live_paths(
@@ -172,32 +189,31 @@ pub fn shade_live_paths(
     shadows.clear(n);
     let k = shadows.rays_per_path;
     let paths = (
-        &hits[..n],
-        &mut batch.origin[..n],
-        &mut batch.direction[..n],
-        &mut batch.vertex[..n],
-        &mut batch.throughput[..n],
-        &mut batch.radiance[..n],
-        &mut batch.depth[..n],
-        &mut batch.pass_through[..n],
-        &mut batch.rng[..n],
-        &mut batch.scatter_pdf[..n],
-        &mut batch.alive[..n],
+        hits[..n].par_chunks(SHADE_BLOCK),
+        batch.origin[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.direction[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.vertex[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.throughput[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.radiance[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.depth[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.pass_through[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.rng[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.scatter_pdf[..n].par_chunks_mut(SHADE_BLOCK),
+        batch.alive[..n].par_chunks_mut(SHADE_BLOCK),
     );
     let shadow_slots = (
-        shadows.origin.par_chunks_mut(k),
-        shadows.direction.par_chunks_mut(k),
-        shadows.t_max.par_chunks_mut(k),
-        shadows.contribution.par_chunks_mut(k),
+        shadows.origin.par_chunks_mut(SHADE_BLOCK * k),
+        shadows.direction.par_chunks_mut(SHADE_BLOCK * k),
+        shadows.t_max.par_chunks_mut(SHADE_BLOCK * k),
+        shadows.contribution.par_chunks_mut(SHADE_BLOCK * k),
     );
     paths
         .into_par_iter()
         .zip(shadow_slots.into_par_iter())
-        .with_min_len(128)
         .for_each(
             |(
                 (
-                    hit,
+                    hits,
                     origin,
                     direction,
                     vertex,
@@ -211,28 +227,31 @@ pub fn shade_live_paths(
                 ),
                 (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
             )| {
-                if !*alive {
-                    return;
+                for (i, hit) in hits.iter().enumerate() {
+                    if !alive[i] {
+                        continue;
+                    }
+                    let path = PathSlots {
+                        origin: &mut origin[i],
+                        direction: &mut direction[i],
+                        vertex: &mut vertex[i],
+                        throughput: &mut throughput[i],
+                        radiance: &mut radiance[i],
+                        depth: &mut depth[i],
+                        pass_through: &mut through[i],
+                        rng: &mut rng[i],
+                        scatter_pdf: &mut pdf[i],
+                        alive: &mut alive[i],
+                    };
+                    let slots = i * k..(i + 1) * k;
+                    let shadow = ShadowSlots {
+                        origin: &mut shadow_origin[slots.clone()],
+                        direction: &mut shadow_direction[slots.clone()],
+                        t_max: &mut shadow_t_max[slots.clone()],
+                        contribution: &mut shadow_contribution[slots],
+                    };
+                    shade(hit.as_ref(), path, shadow);
                 }
-                let path = PathSlots {
-                    origin,
-                    direction,
-                    vertex,
-                    throughput,
-                    radiance,
-                    depth,
-                    pass_through: through,
-                    rng,
-                    scatter_pdf: pdf,
-                    alive,
-                };
-                let shadow = ShadowSlots {
-                    origin: shadow_origin,
-                    direction: shadow_direction,
-                    t_max: shadow_t_max,
-                    contribution: shadow_contribution,
-                };
-                shade(hit.as_ref(), path, shadow);
             },
         );
 }

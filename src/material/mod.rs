@@ -8,9 +8,13 @@ use bevy_ecs::prelude::*;
 use glam::Vec3;
 
 use crate::bsdf::microfacet::TrowbridgeReitz;
+use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
-use crate::bsdf::{Bsdf, CoatedGlossy, Plastic, RoughDielectric, RoughPlastic, ThinDielectric};
+use crate::bsdf::{
+    Bsdf, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic, RoughConductor,
+    RoughDielectric, RoughPlastic, SmoothConductor, ThinDielectric,
+};
 use crate::texture::ShadingPoint;
 use bump::BumpMap;
 use texture::TextureTable;
@@ -58,6 +62,19 @@ pub enum Material {
         f0: Color,
         alpha_x: f32,
         alpha_y: f32,
+    },
+    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`.
+    DiffuseTranslucent {
+        reflectance: Color,
+        transmittance: Color,
+    },
+    /// A conductor of complex index `eta` + i `k` with the exact Fresnel term, scaled by
+    /// `reflectance`: a mirror for `distribution` None, else rough (Mitsuba's separable masking).
+    ComplexConductor {
+        reflectance: Color,
+        eta: Vec3,
+        k: Vec3,
+        distribution: Option<Microfacet>,
     },
     /// GGX reflection and refraction; `eta` = index inside / index outside.
     RoughDielectric {
@@ -138,10 +155,15 @@ impl MaterialTable {
                     ..
                 } => &[reflectance, transmittance],
                 Material::Conductor { f0, .. } => &[f0],
+                Material::ComplexConductor { reflectance, .. } => &[reflectance],
                 Material::RoughDielectric {
                     reflectance,
                     transmittance,
                     ..
+                }
+                | Material::DiffuseTranslucent {
+                    reflectance,
+                    transmittance,
                 }
                 | Material::ThinDielectric {
                     reflectance,
@@ -160,6 +182,25 @@ impl MaterialTable {
             };
             inputs.iter().any(|c| matches!(c, Color::Texture(_)))
         })
+    }
+
+    /// Whether the geometry must keep uvs: a material reads a texture, or orients anisotropic
+    /// roughness along dp/du.
+    pub fn needs_uvs(&self) -> bool {
+        self.uses_textures()
+            || self.materials.iter().any(|m| match m {
+                Material::Conductor {
+                    alpha_x, alpha_y, ..
+                }
+                | Material::RoughDielectric {
+                    alpha_x, alpha_y, ..
+                } => alpha_x != alpha_y,
+                Material::ComplexConductor {
+                    distribution: Some(d),
+                    ..
+                } => d.is_anisotropic(),
+                _ => false,
+            })
     }
 
     /// Whether material `id` is `null`: rays, shadow rays included, pass through it.
@@ -306,6 +347,34 @@ impl Inputs<'_> {
                 alpha_x: *alpha_x,
                 alpha_y: *alpha_y,
             },
+            Material::DiffuseTranslucent {
+                reflectance,
+                transmittance,
+            } => Bsdf::DiffuseTranslucent(DiffuseTranslucent {
+                reflectance: color(reflectance),
+                transmittance: color(transmittance),
+            }),
+            Material::ComplexConductor {
+                reflectance,
+                eta,
+                k,
+                distribution: None,
+            } => Bsdf::SmoothConductor(SmoothConductor {
+                reflectance: color(reflectance),
+                eta: *eta,
+                k: *k,
+            }),
+            Material::ComplexConductor {
+                reflectance,
+                eta,
+                k,
+                distribution: Some(distribution),
+            } => Bsdf::RoughConductor(RoughConductor {
+                reflectance: color(reflectance),
+                fresnel: ConductorFresnel::Complex { eta: *eta, k: *k },
+                distribution: *distribution,
+                masking: Masking::Separable,
+            }),
             Material::RoughDielectric {
                 reflectance,
                 transmittance,

@@ -8,10 +8,11 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{
-    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc, SceneDesc, ShapeDesc,
-    ToneMap,
+    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc,
+    MicrofacetDistribution, SceneDesc, ShapeDesc, ToneMap,
 };
 use crate::bsdf::microfacet::clamp_alpha;
+use crate::bsdf::microfacet_distribution::{DistributionKind, Microfacet};
 use crate::bsdf::plastic::internal_reflectance;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::camera::fisheye::FisheyeFit;
@@ -119,6 +120,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     });
     let material_table = MaterialTable { materials };
     let uses_textures = material_table.uses_textures();
+    let needs_uvs = material_table.needs_uvs();
 
     // Instances place their groups' meshes by reference; any other member (a sphere, a plane)
     // is placed as a shape of its own.
@@ -183,7 +185,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                             .map(|n| Vec3::from(normal_matrix * glam::Vec3A::from(*n)))
                             .collect()
                     }),
-                    uvs: uvs.clone().filter(|_| uses_textures),
+                    uvs: uvs.clone().filter(|_| needs_uvs),
                     indices: indices.clone(),
                 };
                 world.spawn((mesh, material))
@@ -282,7 +284,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
             graph: desc.texture_graph.clone(),
         });
     }
-    world.insert_resource(GeometryNeeds { uvs: uses_textures });
+    world.insert_resource(GeometryNeeds { uvs: needs_uvs });
     world.insert_resource(material_table);
     world.insert_resource(CameraSampling {
         sampler: PixelSampler::new(settings.sampler, settings.samples_per_pixel, settings.seed),
@@ -389,6 +391,30 @@ fn material(desc: &MaterialDesc) -> Material {
             f0: color(specular),
             alpha_x: *alpha_u,
             alpha_y: *alpha_v,
+        },
+        MaterialDesc::DiffuseTranslucent {
+            reflectance,
+            transmittance,
+        } => Material::DiffuseTranslucent {
+            reflectance: color(reflectance),
+            transmittance: color(transmittance),
+        },
+        MaterialDesc::Conductor {
+            reflectance,
+            eta,
+            k,
+            roughness,
+        } => Material::ComplexConductor {
+            reflectance: color(reflectance),
+            eta: *eta,
+            k: *k,
+            distribution: roughness.map(|r| {
+                let kind = match r.distribution {
+                    MicrofacetDistribution::Beckmann => DistributionKind::Beckmann,
+                    MicrofacetDistribution::Ggx => DistributionKind::TrowbridgeReitz,
+                };
+                Microfacet::new(kind, r.alpha_u, r.alpha_v)
+            }),
         },
         MaterialDesc::RoughDielectric {
             reflectance,

@@ -295,6 +295,20 @@ pub enum MaterialDesc {
         alpha_u: f32,
         alpha_v: f32,
     },
+    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`
+    /// (LuxRender's `mattetranslucent`).
+    DiffuseTranslucent {
+        reflectance: ColorParam,
+        transmittance: ColorParam,
+    },
+    /// A conductor of complex index `eta` + i `k` (relative to the outside) with the exact
+    /// Fresnel term, its lobe scaled by `reflectance`: smooth (a mirror) for `roughness` None.
+    Conductor {
+        reflectance: ColorParam,
+        eta: Vec3,
+        k: Vec3,
+        roughness: Option<Roughness>,
+    },
     /// A GGX microfacet dielectric interface (Walter et al. 2007): `ior` inside over outside,
     /// `alpha_u`, `alpha_v` the roughness along u and v.
     RoughDielectric {
@@ -339,6 +353,22 @@ pub enum MaterialDesc {
     /// `material` seen from the side its surface's normal faces, black from the back (Mitsuba's
     /// reflecting BSDFs outside `twosided`). Any other material scatters from both sides.
     OneSided { material: MaterialId },
+}
+
+/// A microfacet distribution of normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MicrofacetDistribution {
+    Beckmann,
+    Ggx,
+}
+
+/// Microfacet roughness: the distribution and its alpha (RMS slope for Beckmann) along the
+/// surface's u and v directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Roughness {
+    pub distribution: MicrofacetDistribution,
+    pub alpha_u: f32,
+    pub alpha_v: f32,
 }
 
 #[derive(Clone, Debug, PartialEq)]

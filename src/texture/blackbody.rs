@@ -44,25 +44,30 @@ pub fn cie_xyz(nm: f32) -> Vec3 {
 }
 
 /// XYZ (D65) to linear sRGB (IEC 61966-2-1).
-const XYZ_TO_SRGB: Mat3 = Mat3::from_cols(
+pub const XYZ_TO_SRGB: Mat3 = Mat3::from_cols(
     Vec3::new(3.240_454_2, -0.969_266, 0.055_643_4),
     Vec3::new(-1.537_138_5, 1.876_010_8, -0.204_025_9),
     Vec3::new(-0.498_531_4, 0.041_556, 1.057_225_2),
 );
 
-/// The XYZ colour of the normalised SPD: the integral of SPD x CMF over [380, 720] nm divided
-/// by that of the y CMF, so that a flat SPD of 1 has Y = 1 (how a spectral renderer's Y of a
-/// reflectance spectrum is defined).
+/// The XYZ colour of the normalised SPD (see [`spectrum_xyz`]).
 pub fn blackbody_xyz(kelvin: f32) -> Vec3 {
     if !(kelvin > 0.0 && kelvin.is_finite()) {
         return Vec3::ZERO;
     }
+    spectrum_xyz(|nm| blackbody_spd(nm, kelvin))
+}
+
+/// The XYZ colour of a spectrum `spd` (a function of the wavelength in nm): the integral of
+/// SPD x CMF over [380, 720] nm divided by that of the y CMF, so that a flat SPD of 1 has Y = 1
+/// (how a spectral renderer's Y of a reflectance spectrum is defined).
+pub fn spectrum_xyz(spd: impl Fn(f32) -> f32) -> Vec3 {
     let step = (LAMBDA_MAX - LAMBDA_MIN) / STEPS as f32;
     let (mut xyz, mut y_norm) = (Vec3::ZERO, 0.0);
     for i in 0..STEPS {
         let nm = LAMBDA_MIN + (i as f32 + 0.5) * step;
         let cmf = cie_xyz(nm);
-        xyz += blackbody_spd(nm, kelvin) * cmf;
+        xyz += spd(nm) * cmf;
         y_norm += cmf.y;
     }
     xyz / y_norm

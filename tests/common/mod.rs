@@ -1,13 +1,39 @@
 //! Scenes built in code for the integration tests, and small image helpers.
 #![allow(dead_code)]
 
+pub mod chi_square;
+
 use std::path::PathBuf;
+use std::process::{Command, Output};
 
 use foton::film::luminance;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::*;
 use glam::{Mat4, Vec3};
+
+/// Runs the foton binary with `args`.
+pub fn foton(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_foton"))
+        .args(args)
+        .output()
+        .expect("the foton binary runs")
+}
+
+/// A fresh folder in the temporary directory, named by `name` and this process.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("foton-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+pub fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+pub fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
 
 pub fn location() -> Location {
     Location::line("test", 1)

@@ -41,21 +41,9 @@ pub fn parse_serialized(
 ) -> Result<TriangleMesh, MeshError> {
     let fail =
         |message: String| MeshError::new(path, None, format!("mesh {shape_index}: {message}"));
-    let u16_at = |at: usize| {
-        bytes
-            .get(at..at + 2)
-            .map(|b| u16::from_le_bytes([b[0], b[1]]))
-    };
-    let u32_at = |at: usize| {
-        bytes
-            .get(at..at + 4)
-            .map(|b| u32::from_le_bytes(b.try_into().unwrap()))
-    };
-    let u64_at = |at: usize| {
-        bytes
-            .get(at..at + 8)
-            .map(|b| u64::from_le_bytes(b.try_into().unwrap()))
-    };
+    let u16_at = |at: usize| bytes_at(bytes, at).map(u16::from_le_bytes);
+    let u32_at = |at: usize| bytes_at(bytes, at).map(u32::from_le_bytes);
+    let u64_at = |at: usize| bytes_at(bytes, at).map(u64::from_le_bytes);
     if u16_at(0) != Some(MAGIC) {
         return Err(fail(
             "not a Mitsuba serialized mesh file (bad header)".into(),
@@ -95,11 +83,17 @@ pub fn parse_serialized(
             .filter(|&o| u16_at(o) == Some(MAGIC))
             .ok_or_else(|| fail("corrupt end-of-file dictionary".into()))?
     };
-    let data = bytes
-        .get(offset + 4..)
+    let data = (offset.checked_add(4))
+        .and_then(|start| bytes.get(start..))
         .ok_or_else(|| fail("truncated file".into()))?;
     read_mesh(&mut ZlibDecoder::new(data), version)
         .map_err(|err| fail(format!("truncated or corrupt mesh data ({err})")))
+}
+
+/// The `N` bytes at offset `at`, or `None` past the end, also for an offset so large that the
+/// end would overflow (a corrupt dictionary can name one).
+fn bytes_at<const N: usize>(bytes: &[u8], at: usize) -> Option<[u8; N]> {
+    bytes.get(at..at.checked_add(N)?)?.try_into().ok()
 }
 
 fn read_mesh(stream: &mut impl Read, version: u16) -> std::io::Result<TriangleMesh> {
@@ -286,5 +280,20 @@ mod tests {
         let err = parse_serialized(&file[..16], 0, Path::new("m.serialized")).unwrap_err();
         assert!(err.message.contains("truncated"), "{err}");
         assert!(parse_serialized(b"PLY", 0, Path::new("m.serialized")).is_err());
+    }
+
+    /// A dictionary entry pointing at the last byte offset there is: reading the magic there
+    /// overflowed the offset (a panic where overflow is checked, as in debug and fuzz builds;
+    /// the `serialized` fuzzer found it).
+    #[test]
+    fn a_dictionary_offset_at_the_end_of_the_address_space_is_corrupt() {
+        let mut file = two_meshes();
+        let entries = file.len() - 4 - 16;
+        file[entries + 8..entries + 16].copy_from_slice(&u64::MAX.to_le_bytes());
+        let err = parse_serialized(&file, 1, Path::new("m.serialized")).unwrap_err();
+        assert!(
+            err.message.contains("corrupt end-of-file dictionary"),
+            "{err}"
+        );
     }
 }

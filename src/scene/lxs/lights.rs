@@ -1,14 +1,16 @@
 //! `LightSource` and `AreaLightSource`: positions and directions go through the CTM.
 
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 use glam::Vec3;
 
 use super::params::ParamList;
 use super::parser::Parser;
+use super::sky::PreethamSky;
 use crate::film::luminance;
 use crate::scene::desc::{
-    AreaLightDesc, ColorParam, LightDesc, SceneError, ShapeDesc, SpotFalloff,
+    AreaLightDesc, ColorParam, ImageTexture, LightDesc, SceneError, ShapeDesc, SpotFalloff,
 };
 use crate::texture::{ShadingPoint, TexParam, TextureNode};
 
@@ -119,6 +121,7 @@ impl Parser {
                     light_to_world: ctm,
                 }
             }
+            "sky" | "sunsky" => self.sky(kind, line, gain, params)?,
             _ => {
                 self.warn(line, format!("LightSource \"{kind}\" unsupported: skipped"));
                 params.ignore_all();
@@ -127,6 +130,55 @@ impl Parser {
         };
         self.scene.lights.push(light);
         Ok(())
+    }
+
+    /// `sky` (LuxRender 1.x `lights/sky.cpp`: `turbidity` 2, `sundir` (0 0 1) in light space,
+    /// `aconst` .. `econst` 1, `gain` 1) as an environment map of the Preetham sky
+    /// ([`PreethamSky`]), importance-sampled like any other. `sunsky` gives the same sky; its sun
+    /// is not drawn (a warning).
+    fn sky(
+        &mut self,
+        kind: &str,
+        line: usize,
+        gain: f32,
+        params: &mut ParamList,
+    ) -> Result<LightDesc, SceneError> {
+        /// The map's size: the sky varies smoothly except near the sun (its circumsolar term
+        /// spans several degrees), which 0.7-degree texels resolve.
+        const WIDTH: usize = 512;
+        const HEIGHT: usize = 256;
+        let turbidity = params.float("turbidity")?.unwrap_or(2.0);
+        let sun = params.vec3("sundir")?.unwrap_or(Vec3::Z);
+        let mut constants = [1.0; 5];
+        for (c, name) in constants
+            .iter_mut()
+            .zip(["aconst", "bconst", "cconst", "dconst", "econst"])
+        {
+            *c = params.float(name)?.unwrap_or(1.0);
+        }
+        params.int("nsamples")?;
+        if kind == "sunsky" {
+            params.float("relsize")?;
+            self.warn(
+                line,
+                "LightSource \"sunsky\": the sun is unsupported: only the sky is drawn",
+            );
+        }
+        let texels = PreethamSky::new(sun, turbidity, constants).tabulate(WIDTH, HEIGHT);
+        self.scene.textures.push(ImageTexture {
+            name: format!("LightSource \"{kind}\" (Preetham sky, turbidity {turbidity})"),
+            path: self.file.clone(),
+            width: WIDTH as u32,
+            height: HEIGHT as u32,
+            texels: Arc::new(texels),
+            scale: glam::Vec2::ONE,
+            delta: glam::Vec2::ZERO,
+        });
+        Ok(LightDesc::Infinite {
+            radiance: Vec3::splat(gain),
+            map: Some(self.scene.textures.len() - 1),
+            light_to_world: self.state.ctm,
+        })
     }
 
     /// Makes the shapes that follow in this attribute block emitters.

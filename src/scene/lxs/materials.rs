@@ -6,9 +6,12 @@ use glam::{Vec2, Vec3};
 
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
+use super::{nk, paths};
 use crate::bsdf::coated_glossy::coating_f0;
 use crate::material::bump::DEFAULT_SAMPLE_DISTANCE;
-use crate::scene::desc::{ColorParam, ImageTexture, MaterialDesc, SceneError};
+use crate::scene::desc::{
+    ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution, Roughness, SceneError,
+};
 use crate::scene::io::image;
 use crate::texture::{Mapping2D, TextureNode};
 
@@ -148,6 +151,8 @@ impl Parser {
                     alpha_v: metal2_alpha(v.unwrap_or(default)),
                 }
             }
+            "metal" => self.metal(line, params)?,
+            "mattetranslucent" => self.matte_translucent(line, params)?,
             "null" => MaterialDesc::Null,
             "mix" => {
                 let mut named = |key: &str| -> Result<usize, SceneError> {
@@ -177,6 +182,87 @@ impl Parser {
                     reflectance: ColorParam::Constant(GREY),
                 }
             }
+        })
+    }
+
+    /// `metal` (LuxRender 1.x `materials/metal.cpp`): `name` is tried first as a file of n/k data
+    /// (`.nk`), then as one of the built-in tables; an unknown name gets a warning and
+    /// aluminium, as in LuxRender. `uroughness`, `vroughness` (0.1; older scenes write one
+    /// `roughness`) are the inverse exponents of Blinn's distribution, e = 1 / r, which matches
+    /// the Beckmann alpha = sqrt(2 / (e + 2)) (Walter et al. 2007, section 5.2); foton's lobe is
+    /// GGX of that alpha.
+    fn metal(&mut self, line: usize, params: &mut ParamList) -> Result<MaterialDesc, SceneError> {
+        let name = params
+            .string("name")?
+            .unwrap_or_else(|| nk::DEFAULT_METAL.to_string());
+        let samples = match nk::named_metal(&name) {
+            Some(samples) => samples,
+            None => match paths::resolve(&name, &self.dir, &self.main_dir) {
+                Ok(found) => nk::read_nk_file(&found.path).map_err(|e| SceneError {
+                    location: Location::line(&found.path, e.line),
+                    message: format!("metal \"name\" \"{name}\": {}", e.message),
+                })?,
+                Err(_) => {
+                    self.warn(
+                        line,
+                        format!(
+                            "metal \"{name}\": neither a built-in metal nor a file: {}",
+                            nk::DEFAULT_METAL
+                        ),
+                    );
+                    nk::named_metal(nk::DEFAULT_METAL).unwrap_or_default()
+                }
+            },
+        };
+        let (eta, k) = nk::nk_to_rgb(&samples);
+        let roughness = self.constant_float(params, "roughness", 0.1, line)?;
+        let u = self.constant_float(params, "uroughness", roughness, line)?;
+        let v = self.constant_float(params, "vroughness", roughness, line)?;
+        let blinn_alpha = |r: f32| (2.0 / (1.0 / r.max(1e-6) + 2.0)).sqrt();
+        Ok(MaterialDesc::Conductor {
+            reflectance: ColorParam::Constant(Vec3::ONE),
+            eta,
+            k,
+            roughness: Some(Roughness {
+                distribution: MicrofacetDistribution::Ggx,
+                alpha_u: blinn_alpha(u),
+                alpha_v: blinn_alpha(v),
+            }),
+        })
+    }
+
+    /// `mattetranslucent` (LuxRender 1.x `materials/mattetranslucent.cpp`): Lambertian
+    /// reflection of `Kr` and transmission of `Kt` (both 1, clamped to [0, 1]); with
+    /// `energyconserving` (false) LuxRender scales T by 1 - R so that R + T <= 1. `sigma`
+    /// (Oren-Nayar for both lobes in LuxRender) is read as 0, with a warning.
+    fn matte_translucent(
+        &mut self,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<MaterialDesc, SceneError> {
+        let reflectance = self.color_param(params, "Kr", Vec3::ONE, line)?;
+        let mut transmittance = self.color_param(params, "Kt", Vec3::ONE, line)?;
+        if params.bool("energyconserving")?.unwrap_or(false) {
+            match (reflectance, transmittance) {
+                (ColorParam::Constant(r), ColorParam::Constant(t)) => {
+                    let clamp = |c: Vec3| c.clamp(Vec3::ZERO, Vec3::ONE);
+                    transmittance = ColorParam::Constant(clamp(t) * (Vec3::ONE - clamp(r)));
+                }
+                _ => self.warn(
+                    line,
+                    "mattetranslucent: \"energyconserving\" with textured Kr or Kt unsupported: ignored",
+                ),
+            }
+        }
+        if self.constant_float(params, "sigma", 0.0, line)? > 0.0 {
+            self.warn(
+                line,
+                "mattetranslucent: \"sigma\" (Oren-Nayar lobes) unsupported: Lambertian",
+            );
+        }
+        Ok(MaterialDesc::DiffuseTranslucent {
+            reflectance,
+            transmittance,
         })
     }
 

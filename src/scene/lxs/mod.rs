@@ -4,12 +4,14 @@
 mod camera;
 mod lights;
 mod materials;
+mod nk;
 mod objects;
 mod params;
 mod parser;
 mod paths;
 mod quadrics;
 mod shapes;
+mod sky;
 mod textures;
 mod tokenizer;
 

@@ -409,6 +409,17 @@ impl ParamList {
         }
     }
 
+    pub fn bool(&mut self, name: &str) -> Result<Option<bool>, SceneError> {
+        let Some(param) = self.take(name) else {
+            return Ok(None);
+        };
+        let (declaration, line) = (param.declaration.clone(), param.line);
+        match &param.values {
+            Values::Bools(values) if values.len() == 1 => Ok(Some(values[0])),
+            _ => Err(self.error(line, format!("\"{declaration}\": expected one bool"))),
+        }
+    }
+
     /// A colour (`"color Kd" [r g b]`, or one grey value) or a texture reference.
     pub fn color(&mut self, name: &str) -> Result<Option<ColorSource>, SceneError> {
         let Some(param) = self.take(name) else {

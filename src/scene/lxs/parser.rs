@@ -105,7 +105,7 @@ pub(super) struct Parser {
     pub file: PathBuf,
     pub dir: PathBuf,
     /// The main scene file's folder (LuxRender resolves names in included files against it).
-    main_dir: PathBuf,
+    pub main_dir: PathBuf,
     /// Absolute paths of the files being read, outermost first (to catch Include cycles).
     include_chain: Vec<PathBuf>,
     pub named_materials: HashMap<String, MaterialId>,

@@ -1,8 +1,9 @@
 //! Mitsuba BSDFs and textures as foton materials and image textures. Exact: `diffuse` (one-sided,
 //! as every reflecting BSDF outside `twosided`), `twosided`, `dielectric`, `roughdielectric`
-//! (GGX), `thindielectric`, `plastic`, `roughplastic` (GGX), `conductor` with material `none`,
-//! `roughconductor` (GGX, material `none`), `null`, `checkerboard`, `bitmap`. Approximated with a
-//! warning: named conductors (Fresnel at normal incidence), `principled`, and Beckmann roughness.
+//! (GGX), `thindielectric`, `plastic`, `roughplastic` (GGX), `conductor` and `roughconductor`
+//! (GGX and Beckmann; named materials, `eta`/`k`, the exact complex Fresnel), `null`,
+//! `checkerboard`, `bitmap`. Approximated with a warning: `principled`, and Beckmann roughness
+//! on dielectrics and plastics.
 
 use std::sync::Arc;
 
@@ -12,7 +13,8 @@ use super::conductors::CONDUCTORS;
 use super::convert::Converter;
 use super::tree::{Object, Value};
 use crate::scene::desc::{
-    ColorParam, ImageTexture, MaterialDesc, MaterialId, SceneError, TextureId,
+    ColorParam, ImageTexture, MaterialDesc, MaterialId, MicrofacetDistribution, Roughness,
+    SceneError, TextureId,
 };
 use crate::scene::io::image as images;
 use crate::texture::{Mapping2D, TextureNode};
@@ -132,65 +134,81 @@ fn named_ior(name: &str) -> Option<f32> {
     TABLE.iter().find(|(n, _)| *n == lower).map(|(_, v)| *v)
 }
 
-/// Reflectance at normal incidence of a conductor with complex index eta + i k (relative to the
-/// outside): ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2), per channel.
-fn conductor_f0(eta: Vec3, k: Vec3) -> Vec3 {
-    let k2 = k * k;
-    ((eta - 1.0) * (eta - 1.0) + k2) / ((eta + 1.0) * (eta + 1.0) + k2)
-}
-
-/// The conductor's reflectance at normal incidence, and whether it is exact (material `none`).
-fn conductor_reflectance(cx: &mut Converter, object: &Object) -> (Vec3, bool) {
-    let loc = object.loc.clone();
+/// The conductor's complex index of refraction eta + i k (Mitsuba 3's `conductor.cpp` and
+/// `roughconductor.cpp`): `eta` and `k` when given (defaults 0 and 1), else the named
+/// `material`'s (`none`, the default, is eta 0, k 1: every angle reflects fully). Mitsuba 0.6's
+/// `ext_eta` divides both.
+fn conductor_index(cx: &mut Converter, object: &Object) -> (Vec3, Vec3) {
     let ext = ior(cx, object, "ext_eta", 1.0);
-    if object.prop("eta").is_some() || object.prop("k").is_some() {
-        let eta = cx.rgb(object, "eta", Vec3::ZERO);
-        let k = cx.rgb(object, "k", Vec3::ONE);
-        object.prop("material");
-        return (conductor_f0(eta / ext, k / ext), false);
-    }
     let material = cx
         .string(object, "material")
         .unwrap_or_else(|| "none".into());
-    if material == "none" {
-        return (Vec3::ONE, true);
-    }
-    match CONDUCTORS.iter().find(|(n, _, _)| *n == material) {
-        Some((_, eta, k)) => (
-            conductor_f0(Vec3::from_array(*eta) / ext, Vec3::from_array(*k) / ext),
-            false,
-        ),
-        None => {
-            cx.warn(
-                &loc,
-                format!("unknown conductor material \"{material}\": a perfect mirror used"),
-            );
-            (Vec3::ONE, true)
+    let (eta, k) = if object.prop("eta").is_some() || material == "none" {
+        (
+            cx.rgb(object, "eta", Vec3::ZERO),
+            cx.rgb(object, "k", Vec3::ONE),
+        )
+    } else {
+        match CONDUCTORS.iter().find(|(n, _, _)| *n == material) {
+            Some((_, eta, k)) => (Vec3::from_array(*eta), Vec3::from_array(*k)),
+            None => {
+                cx.warn(
+                    &object.loc,
+                    format!("unknown conductor material \"{material}\": a perfect mirror used"),
+                );
+                (Vec3::ZERO, Vec3::ONE)
+            }
         }
-    }
+    };
+    (eta / ext, k / ext)
 }
 
-/// GGX alphas (`alpha`, or `alpha_u` and `alpha_v`); Beckmann is read as GGX with a warning.
-fn alphas(cx: &mut Converter, object: &Object) -> (f32, f32) {
-    let distribution = cx
+/// The microfacet distribution (`distribution`, Mitsuba's default `beckmann`) and its alphas
+/// (`alpha`, or `alpha_u` and `alpha_v`; default 0.1).
+fn roughness(cx: &mut Converter, object: &Object) -> Roughness {
+    let name = cx
         .string(object, "distribution")
         .unwrap_or_else(|| "beckmann".into());
-    if distribution != "ggx" {
-        cx.warn(
-            &object.loc,
-            format!(
-                "microfacet distribution \"{distribution}\" approximated by GGX of the same alpha"
-            ),
-        );
-    }
+    let distribution = match name.to_lowercase().as_str() {
+        "ggx" => MicrofacetDistribution::Ggx,
+        "beckmann" => MicrofacetDistribution::Beckmann,
+        _ => {
+            cx.warn(
+                &object.loc,
+                format!("unknown microfacet distribution \"{name}\": beckmann used"),
+            );
+            MicrofacetDistribution::Beckmann
+        }
+    };
     object.prop("sample_visible");
-    if object.prop("alpha_u").is_some() || object.prop("alpha_v").is_some() {
+    let (alpha_u, alpha_v) = if object.prop("alpha_u").is_some() || object.prop("alpha_v").is_some()
+    {
         let u = cx.float(object, "alpha_u", 0.1);
         (u, cx.float(object, "alpha_v", u))
     } else {
         let a = cx.float(object, "alpha", 0.1);
         (a, a)
+    };
+    Roughness {
+        distribution,
+        alpha_u,
+        alpha_v,
     }
+}
+
+/// GGX alphas for the BSDFs that have only GGX; Beckmann is read as GGX with a warning.
+fn alphas(cx: &mut Converter, object: &Object) -> (f32, f32) {
+    let r = roughness(cx, object);
+    if r.distribution != MicrofacetDistribution::Ggx {
+        cx.warn(
+            &object.loc,
+            format!(
+                "{}: the beckmann distribution approximated by GGX of the same alpha",
+                object.plugin
+            ),
+        );
+    }
+    (r.alpha_u, r.alpha_v)
 }
 
 /// A GGX conductor with Schlick's Fresnel from `specular` at normal incidence.
@@ -199,13 +217,6 @@ fn metal(specular: ColorParam, (alpha_u, alpha_v): (f32, f32)) -> MaterialDesc {
         specular,
         alpha_u,
         alpha_v,
-    }
-}
-
-fn scaled(c: ColorParam, s: Vec3) -> ColorParam {
-    match c {
-        ColorParam::Constant(v) => ColorParam::Constant(v * s),
-        texture => texture,
     }
 }
 
@@ -286,19 +297,12 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
             }
         }
         "conductor" | "roughconductor" => {
-            let (f0, exact) = conductor_reflectance(cx, object);
-            if !exact {
-                cx.warn(
-                    &loc,
-                    "conductor's Fresnel term approximated from its reflectance at normal incidence"
-                        .into(),
-                );
-            }
-            let kr = scaled(cx.color(object, "specular_reflectance", Vec3::ONE), f0);
-            if object.plugin == "conductor" {
-                MaterialDesc::Mirror { reflectance: kr }
-            } else {
-                metal(kr, alphas(cx, object))
+            let (eta, k) = conductor_index(cx, object);
+            MaterialDesc::Conductor {
+                reflectance: cx.color(object, "specular_reflectance", Vec3::ONE),
+                eta,
+                k,
+                roughness: (object.plugin == "roughconductor").then(|| roughness(cx, object)),
             }
         }
         "plastic" | "roughplastic" | "principled" => {
@@ -469,18 +473,4 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
     });
     cx.textures.insert(key, id);
     Some(id)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn normal_incidence_reflectance_of_a_conductor() {
-        // k = 0 is a dielectric: ((n - 1) / (n + 1))^2.
-        let f = conductor_f0(Vec3::splat(1.5), Vec3::ZERO);
-        assert!((f.x - 0.04).abs() < 1e-6);
-        // A perfect conductor (k -> inf) reflects everything.
-        assert!(conductor_f0(Vec3::ONE, Vec3::splat(1e4)).min_element() > 0.9999);
-    }
 }
