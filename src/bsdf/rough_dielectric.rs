@@ -1,7 +1,8 @@
 //! Rough dielectric interface: microfacet reflection and refraction (Walter et al. 2007,
 //! "Microfacet Models for Refraction through Rough Surfaces"), as Mitsuba 3's
 //! `roughdielectric` (`src/bsdfs/roughdielectric.cpp`) and pbrt-v4's `DielectricBxDF` (§9.7)
-//! define it, with the GGX distribution and visible-normal sampling (Heitz 2018).
+//! define it, with the GGX distribution and visible-normal sampling (Heitz 2018), or Beckmann's
+//! sampled over all normals (`beckmann.rs`).
 //!
 //! With wo the direction towards the viewer, wi the one towards the light, and eta' the index
 //! of wi's side over wo's (1 for reflection), the generalised half vector is
@@ -22,7 +23,7 @@
 use super::BsdfSample;
 use super::dielectric::{blend_by_normal_fresnel, clamp_eta, refract};
 use super::fresnel::fr_dielectric;
-use super::microfacet::TrowbridgeReitz;
+use super::microfacet_distribution::{Masking, Microfacet};
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -31,7 +32,7 @@ pub struct RoughDielectric {
     pub transmittance: Vec3,
     /// Index inside / index outside; the normal (+z) points outside.
     pub eta: f32,
-    pub distribution: TrowbridgeReitz,
+    pub distribution: Microfacet,
 }
 
 /// The geometry of a pair of directions: the oriented half vector, eta', and whether wi is
@@ -69,7 +70,7 @@ impl RoughDielectric {
 
     /// Smith's separable masking-shadowing G1(wo) G1(wi).
     fn g(&self, wo: Vec3, wi: Vec3) -> f32 {
-        self.distribution.g1(wo) * self.distribution.g1(wi)
+        self.distribution.g(wo, wi, Masking::Separable)
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
@@ -94,7 +95,7 @@ impl RoughDielectric {
         };
         let f = fr_dielectric(wo.dot(wm), self.eta());
         let wo_up = wo * wo.z.signum();
-        let visible = self.distribution.d_visible(wo_up, wm);
+        let visible = self.distribution.pdf_wm(wo_up, wm);
         if reflect {
             visible / (4.0 * wo.dot(wm).abs()) * f
         } else {

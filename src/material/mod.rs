@@ -76,13 +76,12 @@ pub enum Material {
         k: Vec3,
         distribution: Option<Microfacet>,
     },
-    /// GGX reflection and refraction; `eta` = index inside / index outside.
+    /// Microfacet reflection and refraction; `eta` = index inside / index outside.
     RoughDielectric {
         reflectance: Color,
         transmittance: Color,
         eta: f32,
-        alpha_x: f32,
-        alpha_y: f32,
+        distribution: Microfacet,
     },
     /// A thin sheet of relative index `eta`.
     ThinDielectric {
@@ -191,13 +190,13 @@ impl MaterialTable {
             || self.materials.iter().any(|m| match m {
                 Material::Conductor {
                     alpha_x, alpha_y, ..
-                }
-                | Material::RoughDielectric {
-                    alpha_x, alpha_y, ..
                 } => alpha_x != alpha_y,
                 Material::ComplexConductor {
                     distribution: Some(d),
                     ..
+                }
+                | Material::RoughDielectric {
+                    distribution: d, ..
                 } => d.is_anisotropic(),
                 _ => false,
             })
@@ -379,13 +378,12 @@ impl Inputs<'_> {
                 reflectance,
                 transmittance,
                 eta,
-                alpha_x,
-                alpha_y,
+                distribution,
             } => Bsdf::RoughDielectric(RoughDielectric {
                 reflectance: color(reflectance),
                 transmittance: color(transmittance),
                 eta: *eta,
-                distribution: TrowbridgeReitz::new(*alpha_x, *alpha_y),
+                distribution: *distribution,
             }),
             Material::ThinDielectric {
                 reflectance,

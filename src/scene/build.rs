@@ -408,13 +408,7 @@ fn material(desc: &MaterialDesc) -> Material {
             reflectance: color(reflectance),
             eta: *eta,
             k: *k,
-            distribution: roughness.map(|r| {
-                let kind = match r.distribution {
-                    MicrofacetDistribution::Beckmann => DistributionKind::Beckmann,
-                    MicrofacetDistribution::Ggx => DistributionKind::TrowbridgeReitz,
-                };
-                Microfacet::new(kind, r.alpha_u, r.alpha_v)
-            }),
+            distribution: roughness.map(|r| microfacet(r.distribution, r.alpha_u, r.alpha_v)),
         },
         MaterialDesc::RoughDielectric {
             reflectance,
@@ -422,12 +416,12 @@ fn material(desc: &MaterialDesc) -> Material {
             ior,
             alpha_u,
             alpha_v,
+            distribution,
         } => Material::RoughDielectric {
             reflectance: color(reflectance),
             transmittance: color(transmittance),
             eta: *ior,
-            alpha_x: *alpha_u,
-            alpha_y: *alpha_v,
+            distribution: microfacet(*distribution, *alpha_u, *alpha_v),
         },
         MaterialDesc::ThinDielectric {
             reflectance,
@@ -490,6 +484,15 @@ fn material(desc: &MaterialDesc) -> Material {
             },
         },
     }
+}
+
+/// The BSDF's distribution of the description's kind and alphas.
+fn microfacet(distribution: MicrofacetDistribution, alpha_u: f32, alpha_v: f32) -> Microfacet {
+    let kind = match distribution {
+        MicrofacetDistribution::Beckmann => DistributionKind::Beckmann,
+        MicrofacetDistribution::Ggx => DistributionKind::TrowbridgeReitz,
+    };
+    Microfacet::new(kind, alpha_u, alpha_v)
 }
 
 fn image_texture(image: &ImageTexture) -> texture::ImageTexture {

@@ -131,6 +131,7 @@ impl Parser {
                     ior: self.constant_float(params, "index", 1.5, line)?,
                     alpha_u: clamp(u),
                     alpha_v: clamp(v),
+                    distribution: crate::scene::desc::MicrofacetDistribution::Ggx,
                 }
             }
             "metal2" => {

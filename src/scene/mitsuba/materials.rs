@@ -1,9 +1,9 @@
 //! Mitsuba BSDFs and textures as foton materials and image textures. Exact: `diffuse` (one-sided,
 //! as every reflecting BSDF outside `twosided`), `twosided`, `dielectric`, `roughdielectric`
-//! (GGX), `thindielectric`, `plastic`, `roughplastic` (GGX), `conductor` and `roughconductor`
+//! (GGX and Beckmann), `thindielectric`, `plastic`, `roughplastic` (GGX), `conductor` and `roughconductor`
 //! (GGX and Beckmann; named materials, `eta`/`k`, the exact complex Fresnel), `null`,
 //! `checkerboard`, `bitmap`. Approximated with a warning: `principled`, and Beckmann roughness
-//! on dielectrics and plastics.
+//! on plastics.
 
 use std::sync::Arc;
 
@@ -196,7 +196,7 @@ fn roughness(cx: &mut Converter, object: &Object) -> Roughness {
     }
 }
 
-/// GGX alphas for the BSDFs that have only GGX; Beckmann is read as GGX with a warning.
+/// GGX alphas for `roughplastic`, which has only GGX; Beckmann is read as GGX with a warning.
 fn alphas(cx: &mut Converter, object: &Object) -> (f32, f32) {
     let r = roughness(cx, object);
     if r.distribution != MicrofacetDistribution::Ggx {
@@ -275,13 +275,18 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
             let ior = int / ext;
             match object.plugin.as_str() {
                 "roughdielectric" => {
-                    let (alpha_u, alpha_v) = alphas(cx, object);
+                    let Roughness {
+                        distribution,
+                        alpha_u,
+                        alpha_v,
+                    } = roughness(cx, object);
                     MaterialDesc::RoughDielectric {
                         reflectance,
                         transmittance,
                         ior,
                         alpha_u,
                         alpha_v,
+                        distribution,
                     }
                 }
                 "thindielectric" => MaterialDesc::ThinDielectric {

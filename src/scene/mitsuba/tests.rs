@@ -415,3 +415,65 @@ fn a_byte_order_mark_before_stray_text_is_an_error_not_a_panic() {
     });
     assert!(result.is_ok(), "parsing panicked");
 }
+
+/// Conductors keep their complex index (named from Mitsuba's table, or `eta`/`k`, or the
+/// default eta 0, k 1) and their roughness (Mitsuba's default Beckmann alpha 0.1, or GGX and
+/// anisotropic alphas), without a warning; an unknown distribution is one.
+#[test]
+fn conductors_keep_their_complex_index_and_distribution() {
+    use crate::scene::desc::{MaterialDesc, MicrofacetDistribution, Roughness};
+    use glam::Vec3;
+    let conductor = |bsdf: &str| {
+        let tree = scene(&format!(
+            "<sensor type=\"perspective\"/><shape type=\"sphere\">{bsdf}</shape>"
+        ));
+        let desc = convert::to_scene(&tree).unwrap();
+        let found = desc.materials.iter().find_map(|m| match m {
+            MaterialDesc::Conductor {
+                eta, k, roughness, ..
+            } => Some((*eta, *k, *roughness)),
+            _ => None,
+        });
+        (found.expect("a conductor"), desc.warnings)
+    };
+    let cu = conductors::CONDUCTORS
+        .iter()
+        .find(|(n, _, _)| *n == "Cu")
+        .unwrap();
+    let ((eta, k, roughness), warnings) =
+        conductor("<bsdf type=\"roughconductor\"><string name=\"material\" value=\"Cu\"/></bsdf>");
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!((eta.to_array(), k.to_array()), (cu.1, cu.2));
+    assert_eq!(
+        roughness,
+        Some(Roughness {
+            distribution: MicrofacetDistribution::Beckmann,
+            alpha_u: 0.1,
+            alpha_v: 0.1
+        })
+    );
+    let ((eta, k, roughness), _) = conductor("<bsdf type=\"conductor\"/>");
+    assert_eq!((eta, k, roughness), (Vec3::ZERO, Vec3::ONE, None));
+    let ((eta, k, roughness), warnings) = conductor(
+        "<bsdf type=\"roughconductor\"><rgb name=\"eta\" value=\"0.2, 0.9, 1.1\"/>\
+         <rgb name=\"k\" value=\"3.9, 2.4, 2.1\"/><string name=\"distribution\" value=\"ggx\"/>\
+         <float name=\"alpha_u\" value=\"0.05\"/><float name=\"alpha_v\" value=\"0.3\"/></bsdf>",
+    );
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(
+        (eta, k),
+        (Vec3::new(0.2, 0.9, 1.1), Vec3::new(3.9, 2.4, 2.1))
+    );
+    assert_eq!(
+        roughness,
+        Some(Roughness {
+            distribution: MicrofacetDistribution::Ggx,
+            alpha_u: 0.05,
+            alpha_v: 0.3
+        })
+    );
+    let (_, warnings) = conductor(
+        "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"phong\"/></bsdf>",
+    );
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+}
