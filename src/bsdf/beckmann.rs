@@ -14,8 +14,8 @@ use std::f32::consts::PI;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Beckmann {
-    alpha_x: f32,
-    alpha_y: f32,
+    pub(super) alpha_x: f32,
+    pub(super) alpha_y: f32,
 }
 
 impl Beckmann {

@@ -19,8 +19,8 @@ pub const ALPHA_MAX: f32 = 1.0;
 /// GGX with roughness `alpha_x` along the local x axis and `alpha_y` along y.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrowbridgeReitz {
-    alpha_x: f32,
-    alpha_y: f32,
+    pub(super) alpha_x: f32,
+    pub(super) alpha_y: f32,
 }
 
 /// Clamps alpha to [ALPHA_MIN, ALPHA_MAX]; NaN becomes ALPHA_MIN.

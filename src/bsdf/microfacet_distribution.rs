@@ -48,6 +48,14 @@ impl Microfacet {
         }
     }
 
+    /// The roughness along the local x and y axes.
+    pub fn alphas(&self) -> (f32, f32) {
+        match self {
+            Microfacet::TrowbridgeReitz(d) => (d.alpha_x, d.alpha_y),
+            Microfacet::Beckmann(d) => (d.alpha_x, d.alpha_y),
+        }
+    }
+
     /// D(wm), normalised to unit projected area.
     pub fn d(&self, wm: Vec3) -> f32 {
         match self {

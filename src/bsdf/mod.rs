@@ -65,14 +65,6 @@ pub enum Bsdf {
         alpha_x: f32,
         alpha_y: f32,
     },
-    /// A GGX conductor with the exact Fresnel of the complex index `eta` + i `k` (LuxRender's
-    /// `metal`).
-    MeasuredConductor {
-        eta: Vec3,
-        k: Vec3,
-        alpha_x: f32,
-        alpha_y: f32,
-    },
     /// Rough diffuse; `a`, `b` from [`oren_nayar::oren_nayar_ab`].
     OrenNayar {
         reflectance: Vec3,
@@ -155,12 +147,6 @@ impl Bsdf {
                 alpha_x,
                 alpha_y,
             } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).eval(wo, wi),
-            Bsdf::MeasuredConductor {
-                eta,
-                k,
-                alpha_x,
-                alpha_y,
-            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).eval(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.eval(wo, wi),
             Bsdf::CoatedGlossy(c) => c.eval(wo, wi),
             Bsdf::RoughDielectric(d) => d.eval(wo, wi),
@@ -189,12 +175,6 @@ impl Bsdf {
                 alpha_x,
                 alpha_y,
             } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).pdf(wo, wi),
-            Bsdf::MeasuredConductor {
-                eta,
-                k,
-                alpha_x,
-                alpha_y,
-            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).pdf(wo, wi),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.pdf(wo, wi),
             Bsdf::CoatedGlossy(c) => c.pdf(wo, wi),
             Bsdf::RoughDielectric(d) => d.pdf(wo, wi),
@@ -239,12 +219,6 @@ impl Bsdf {
                 alpha_x,
                 alpha_y,
             } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).sample(wo, u),
-            Bsdf::MeasuredConductor {
-                eta,
-                k,
-                alpha_x,
-                alpha_y,
-            } => conductor(ConductorFresnel::Complex { eta, k }, alpha_x, alpha_y).sample(wo, u),
             Bsdf::OrenNayar { reflectance, a, b } => OrenNayar { reflectance, a, b }.sample(wo, u),
             Bsdf::CoatedGlossy(c) => c.sample(wo, u),
             Bsdf::RoughDielectric(d) => d.sample(wo, u, canonical(uc)),
@@ -275,9 +249,6 @@ impl Bsdf {
     pub fn is_anisotropic(&self) -> bool {
         match self {
             Bsdf::Conductor {
-                alpha_x, alpha_y, ..
-            }
-            | Bsdf::MeasuredConductor {
                 alpha_x, alpha_y, ..
             } => alpha_x != alpha_y,
             Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
@@ -310,7 +281,6 @@ impl Bsdf {
             }
             .albedo(),
             Bsdf::Conductor { f0, .. } => f0,
-            Bsdf::MeasuredConductor { eta, k, .. } => fresnel::fr_conductor(1.0, eta, k),
             Bsdf::OrenNayar { reflectance, .. } => reflectance,
             // The coating reflects about Ks; the base shows through the rest.
             Bsdf::CoatedGlossy(c) => c.specular + (Vec3::ONE - c.specular) * c.diffuse,

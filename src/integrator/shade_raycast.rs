@@ -115,13 +115,15 @@ fn shade_hit(
 /// (Lafortune & Willems 1994: (n + 2) / 2pi cos^n of the angle to the mirror direction) with
 /// the exponent that matches the GGX alpha, n = 2 / alpha^2 - 2 (Walter et al. 2007).
 fn local_shading(bsdf: &Bsdf, surface: &SurfacePoint, wo: Vec3, wi: Vec3) -> Vec3 {
-    match bsdf {
+    let alphas = match bsdf {
         Bsdf::Conductor {
             alpha_x, alpha_y, ..
-        }
-        | Bsdf::MeasuredConductor {
-            alpha_x, alpha_y, ..
-        } => {
+        } => Some((*alpha_x, *alpha_y)),
+        Bsdf::RoughConductor(c) => Some(c.distribution.alphas()),
+        _ => None,
+    };
+    match alphas {
+        Some((alpha_x, alpha_y)) => {
             let alpha = (alpha_x * alpha_y).sqrt().max(1e-3);
             let exponent = (2.0 / (alpha * alpha) - 2.0).max(1.0);
             let n = surface.shading_normal;
@@ -129,6 +131,45 @@ fn local_shading(bsdf: &Bsdf, surface: &SurfacePoint, wo: Vec3, wi: Vec3) -> Vec
             let cos_r = mirror.dot(wi).max(0.0);
             bsdf.albedo() * (exponent + 2.0) / (2.0 * PI) * cos_r.powf(exponent)
         }
-        other => other.albedo() / PI,
+        None => bsdf.albedo() / PI,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet};
+    use crate::bsdf::{ConductorFresnel, RoughConductor};
+    use glam::Vec2;
+
+    /// Every rough conductor gets the Phong lobe (LuxRender's `metal` and Mitsuba's conductors
+    /// are `RoughConductor`s): far brighter towards the mirror direction than 60 degrees off it,
+    /// where a Lambertian stand-in would be the same.
+    #[test]
+    fn rough_conductors_shade_with_the_phong_lobe() {
+        let bsdf = Bsdf::RoughConductor(RoughConductor {
+            reflectance: Vec3::ONE,
+            fresnel: ConductorFresnel::Complex {
+                eta: Vec3::splat(0.2),
+                k: Vec3::splat(3.0),
+            },
+            distribution: Microfacet::new(DistributionKind::Beckmann, 0.1, 0.1),
+            masking: Masking::Separable,
+        });
+        let surface = SurfacePoint {
+            position: Vec3::ZERO,
+            geometric_normal: Vec3::Z,
+            shading_normal: Vec3::Z,
+            uv: Vec2::ZERO,
+            material: 0,
+            emitter: 0,
+            prim: 0,
+        };
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let mirror = Vec3::new(-0.6, 0.0, 0.8);
+        let off = Vec3::new(0.3, 0.0, 1.0).normalize();
+        let towards = local_shading(&bsdf, &surface, wo, mirror).x;
+        let away = local_shading(&bsdf, &surface, wo, off).x;
+        assert!(towards > 100.0 * away, "{towards} vs {away}");
     }
 }

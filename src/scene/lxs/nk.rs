@@ -7,7 +7,7 @@
 //! (integrated against the CIE 1931 colour matching functions, to linear sRGB), with each channel
 //! divided by that of a flat spectrum of 1, so that a constant index keeps its value in every
 //! channel. The exact complex Fresnel term is then evaluated per channel
-//! (`Bsdf::MeasuredConductor`).
+//! (`MaterialDesc::Conductor`).
 
 use std::path::Path;
 
