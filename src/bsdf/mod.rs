@@ -114,6 +114,18 @@ impl BsdfSample {
             delta: false,
         })
     }
+
+    /// The mirror direction (-x, -y, z) about the normal with probability 1, reflecting the
+    /// fraction `weight`: f = weight / cos(theta_i), so that f |cos| / pdf = weight. None for
+    /// `wo` below the surface.
+    pub fn mirror(wo: Vec3, weight: Vec3) -> Option<Self> {
+        (wo.z > 0.0).then(|| Self {
+            wi: Vec3::new(-wo.x, -wo.y, wo.z),
+            f: weight / wo.z,
+            pdf: 1.0,
+            delta: true,
+        })
+    }
 }
 
 /// The largest f32 below 1, the upper bound of a canonical sample.

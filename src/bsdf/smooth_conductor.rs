@@ -16,18 +16,8 @@ pub struct SmoothConductor {
 }
 
 impl SmoothConductor {
-    /// The mirror direction (-x, -y, z) with probability 1; f = R F(cos) / cos(theta_i) so that
-    /// f |cos| / pdf = R F(cos).
+    /// The mirror direction, reflecting R F(cos) of the incident light.
     pub fn sample(&self, wo: Vec3) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-        Some(BsdfSample {
-            wi,
-            f: self.reflectance * fr_conductor(wo.z, self.eta, self.k) / wi.z,
-            pdf: 1.0,
-            delta: true,
-        })
+        BsdfSample::mirror(wo, self.reflectance * fr_conductor(wo.z, self.eta, self.k))
     }
 }

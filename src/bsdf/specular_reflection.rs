@@ -10,18 +10,8 @@ pub struct SpecularReflection {
 }
 
 impl SpecularReflection {
-    /// The mirror direction about the normal: (-x, -y, z). Delta lobe with
-    /// probability 1; f = R / |cos(theta_i)| so that f |cos| / pdf = R.
+    /// The mirror direction, reflecting the fraction R (no Fresnel term).
     pub fn sample(&self, wo: Vec3) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-        Some(BsdfSample {
-            wi,
-            f: self.reflectance / wi.z,
-            pdf: 1.0,
-            delta: true,
-        })
+        BsdfSample::mirror(wo, self.reflectance)
     }
 }
