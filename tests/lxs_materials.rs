@@ -241,7 +241,7 @@ fn matte_translucent_reflects_kr_and_transmits_kt() {
 
 /// `LightSource "sky"` is the Preetham sky as an environment light: a white matte quad under
 /// it (the distant light off) renders blue-white and lit, with no warning. `sunsky` adds the
-/// sun as a distant light, without a warning, and the sun overhead adds its irradiance E over
+/// sun as a distant light, without a warning, carrying the disc's illuminance; the sun overhead adds its irradiance E over
 /// pi to the white quad's radiance: the mean of the sunsky render less that of the sky alone
 /// is E / pi within five standard errors (box filter: the pixels are independent estimates,
 /// and the quad, lit evenly, fills the image, so the pixels' spread is the noise).
@@ -298,6 +298,15 @@ fn sky_light_renders() {
             _ => None,
         })
         .expect("sunsky has a distant sun");
+    // The sun overhead at turbidity 2 has luminance 1.4964e9 cd/m^2 (the module's formulas
+    // evaluated independently in Python, as in `scene::lxs::sun`'s tests), over a disc of
+    // 6.7906e-5 sr: 101,610 lux on a surface facing it (the clear-sky direct normal
+    // illuminance, about 1e5 lux), times the gain.
+    let illuminance = foton::film::luminance(sun_irradiance) / 0.001;
+    assert!(
+        (illuminance / 101_610.0 - 1.0).abs() < 0.01,
+        "{illuminance} lux"
+    );
     let sky_alone = scene(&light("sky"));
     let (mean_sunsky, se_sunsky) =
         mean_and_standard_error(&common::render(sunsky, &common::options(16, 1)));
