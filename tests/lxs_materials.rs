@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use std::f32::consts::PI;
 
-use foton::scene::desc::{ColorParam, MaterialDesc, Roughness, SceneDesc};
+use foton::scene::desc::{ColorParam, LightDesc, MaterialDesc, Roughness, SceneDesc};
 use foton::settings::IntegratorKind;
 use glam::Vec3;
 
@@ -240,8 +240,11 @@ fn matte_translucent_reflects_kr_and_transmits_kt() {
 }
 
 /// `LightSource "sky"` is the Preetham sky as an environment light: a white matte quad under
-/// it (the distant light off) renders blue-white and lit, with no warning; `sunsky` draws the
-/// same sky and says its sun is missing.
+/// it (the distant light off) renders blue-white and lit, with no warning. `sunsky` adds the
+/// sun as a distant light, without a warning, carrying the disc's illuminance; the sun overhead adds its irradiance E over
+/// pi to the white quad's radiance: the mean of the sunsky render less that of the sky alone
+/// is E / pi within five standard errors (box filter: the pixels are independent estimates,
+/// and the quad, lit evenly, fills the image, so the pixels' spread is the noise).
 #[test]
 fn sky_light_renders() {
     let dir = std::env::temp_dir().join("foton-lxs-materials-sky");
@@ -253,7 +256,7 @@ fn sky_light_renders() {
             format!(
                 "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [20]\n\
                  Film \"fleximage\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n\
-                 WorldBegin\n{light}\nMaterial \"matte\" \"color Kd\" [1 1 1]\n\
+                 PixelFilter \"box\"\nWorldBegin\n{light}\nMaterial \"matte\" \"color Kd\" [1 1 1]\n\
                  Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n\
                  \"point P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]\nWorldEnd\n"
             ),
@@ -272,11 +275,70 @@ fn sky_light_renders() {
         mean.z > mean.x,
         "a clear sky lights the quad blue-white: {mean}"
     );
-    let sunsky = scene(r#"LightSource "sunsky" "vector sundir" [0 0 1] "float relsize" [1]"#);
-    assert_eq!(sunsky.lights.len(), 1);
+
+    let light = |kind: &str| {
+        format!(
+            r#"LightSource "{kind}" "float gain" [0.001] "vector sundir" [0 0 1] "float relsize" [1]"#
+        )
+    };
+    let sunsky = scene(&light("sunsky"));
+    assert!(sunsky.warnings.is_empty(), "{:?}", sunsky.warnings);
+    assert_eq!(sunsky.lights.len(), 2, "{:?}", sunsky.lights);
+    let sun_irradiance = sunsky
+        .lights
+        .iter()
+        .find_map(|light| match light {
+            LightDesc::Distant {
+                direction_to_light,
+                radiance,
+            } => {
+                assert!((*direction_to_light - Vec3::Z).length() < 1e-6);
+                Some(*radiance)
+            }
+            _ => None,
+        })
+        .expect("sunsky has a distant sun");
+    // The sun overhead at turbidity 2 has luminance 1.4964e9 cd/m^2 (the module's formulas
+    // evaluated independently in Python, as in `scene::lxs::sun`'s tests), over a disc of
+    // 6.7906e-5 sr: 101,610 lux on a surface facing it (the clear-sky direct normal
+    // illuminance, about 1e5 lux), times the gain.
+    let illuminance = foton::film::luminance(sun_irradiance) / 0.001;
     assert!(
-        sunsky.warnings.iter().any(|w| w.message.contains("sun")),
-        "{:?}",
-        sunsky.warnings
+        (illuminance / 101_610.0 - 1.0).abs() < 0.01,
+        "{illuminance} lux"
     );
+    let sky_alone = scene(&light("sky"));
+    let (mean_sunsky, se_sunsky) =
+        mean_and_standard_error(&common::render(sunsky, &common::options(16, 1)));
+    let (mean_sky, se_sky) =
+        mean_and_standard_error(&common::render(sky_alone, &common::options(16, 1)));
+    let expected = sun_irradiance / PI;
+    let standard_error = (se_sunsky * se_sunsky + se_sky * se_sky).map(f32::sqrt);
+    let difference = mean_sunsky - mean_sky;
+    assert!(
+        ((difference - expected).abs() - 5.0 * standard_error).max_element() < 0.0,
+        "sun adds {difference}, expected {expected} +- 5 x {standard_error}"
+    );
+    let sun = scene(&light("sun"));
+    assert!(sun.warnings.is_empty(), "{:?}", sun.warnings);
+    assert!(
+        matches!(sun.lights[..], [LightDesc::Distant { .. }]),
+        "{:?}",
+        sun.lights
+    );
+    let below = scene(r#"LightSource "sun" "vector sundir" [0 0.2 -1]"#);
+    assert!(
+        below.lights.is_empty() && below.warnings.is_empty(),
+        "{:?}",
+        below.lights
+    );
+}
+
+/// The mean of the pixels and its standard error (the pixels' standard deviation over the
+/// square root of their number), per channel.
+fn mean_and_standard_error(image: &[Vec3]) -> (Vec3, Vec3) {
+    let n = image.len() as f32;
+    let mean = image.iter().copied().sum::<Vec3>() / n;
+    let variance = image.iter().map(|&p| (p - mean) * (p - mean)).sum::<Vec3>() / (n - 1.0);
+    (mean, (variance / n).map(f32::sqrt))
 }

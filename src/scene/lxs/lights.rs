@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::params::ParamList;
 use super::parser::Parser;
 use super::sky::PreethamSky;
+use super::sun::{sun_radiance, sun_solid_angle};
 use crate::film::luminance;
 use crate::scene::desc::{
     AreaLightDesc, ColorParam, ImageTexture, LightDesc, SceneError, ShapeDesc, SpotFalloff,
@@ -121,7 +122,17 @@ impl Parser {
                     light_to_world: ctm,
                 }
             }
-            "sky" | "sunsky" => self.sky(kind, line, gain, params)?,
+            "sun" | "sunsky" => {
+                // LuxRender 1.x makes `sunsky` a `sun` and a `sky` from the same parameters.
+                if let Some(sun) = self.sun(line, gain, params)? {
+                    self.scene.lights.push(sun);
+                }
+                if kind == "sun" {
+                    return Ok(());
+                }
+                self.sky(kind, gain, params)?
+            }
+            "sky" => self.sky(kind, gain, params)?,
             _ => {
                 self.warn(line, format!("LightSource \"{kind}\" unsupported: skipped"));
                 params.ignore_all();
@@ -132,14 +143,51 @@ impl Parser {
         Ok(())
     }
 
+    /// `sun` (LuxRender 1.x `lights/sun.cpp`: `sundir` (0 0 -1) through the CTM, `turbidity`
+    /// 2, `relsize` 1, `gain` 1): the attenuated solar spectrum of the sun's zenith angle in the
+    /// world ([`sun_radiance`]) times `gain`, as a distant light carrying the disc's irradiance
+    /// (radiance times its solid angle). `relsize` 0 is LuxRender's old delta sun, whose
+    /// irradiance is the radiance itself. `None` when the sun is below the horizon (dark).
+    fn sun(
+        &mut self,
+        line: usize,
+        gain: f32,
+        params: &mut ParamList,
+    ) -> Result<Option<LightDesc>, SceneError> {
+        let turbidity = params.float("turbidity")?.unwrap_or(2.0);
+        let relsize = params.float("relsize")?.unwrap_or(1.0);
+        params.int("nsamples")?;
+        let sundir = params.vec3("sundir")?.unwrap_or(Vec3::NEG_Z);
+        let Some(direction) = self.state.ctm.transform_vector3(sundir).try_normalize() else {
+            return Err(self.error(line, "LightSource \"sun\": \"sundir\" is zero"));
+        };
+        let radiance = sun_radiance(direction.z.clamp(-1.0, 1.0).acos(), turbidity) * gain;
+        if radiance == Vec3::ZERO {
+            return Ok(None);
+        }
+        let solid_angle = if relsize == 0.0 {
+            1.0
+        } else {
+            sun_solid_angle(relsize).unwrap_or_else(|| {
+                self.warn(
+                    line,
+                    format!("LightSource \"sun\": \"relsize\" {relsize} exceeds a hemisphere: reduced to one"),
+                );
+                2.0 * PI
+            })
+        };
+        Ok(Some(LightDesc::Distant {
+            direction_to_light: direction,
+            radiance: radiance * solid_angle,
+        }))
+    }
+
     /// `sky` (LuxRender 1.x `lights/sky.cpp`: `turbidity` 2, `sundir` (0 0 1) in light space,
     /// `aconst` .. `econst` 1, `gain` 1) as an environment map of the Preetham sky
-    /// ([`PreethamSky`]), importance-sampled like any other. `sunsky` gives the same sky; its sun
-    /// is not drawn (a warning).
+    /// ([`PreethamSky`]), importance-sampled like any other. `sunsky` gives the same sky.
     fn sky(
         &mut self,
         kind: &str,
-        line: usize,
         gain: f32,
         params: &mut ParamList,
     ) -> Result<LightDesc, SceneError> {
@@ -157,13 +205,6 @@ impl Parser {
             *c = params.float(name)?.unwrap_or(1.0);
         }
         params.int("nsamples")?;
-        if kind == "sunsky" {
-            params.float("relsize")?;
-            self.warn(
-                line,
-                "LightSource \"sunsky\": the sun is unsupported: only the sky is drawn",
-            );
-        }
         let texels = PreethamSky::new(sun, turbidity, constants).tabulate(WIDTH, HEIGHT);
         self.scene.textures.push(ImageTexture {
             name: format!("LightSource \"{kind}\" (Preetham sky, turbidity {turbidity})"),

@@ -12,6 +12,7 @@ mod paths;
 mod quadrics;
 mod shapes;
 mod sky;
+mod sun;
 mod textures;
 mod tokenizer;
 
