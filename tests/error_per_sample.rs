@@ -52,18 +52,6 @@ fn variance_sum(scene: impl Fn() -> SceneDesc, spp: u32, techniques: Techniques)
         .sum()
 }
 
-/// A camera looking straight down from `eye`: camera x = world x, y = world y.
-fn looking_down(eye: Vec3, fov: f32) -> foton::scene::desc::CameraDesc {
-    let mut camera = look_at(eye, eye + Vec3::Y, fov);
-    camera.camera_to_world = Mat4::from_cols(
-        Vec3::X.extend(0.0),
-        Vec3::Y.extend(0.0),
-        Vec3::NEG_Z.extend(0.0),
-        eye.extend(1.0),
-    );
-    camera
-}
-
 /// After a null surface, light sampling would still have sampled from the floor point, so an
 /// emitter's MIS weight must use that point. A null quad 5e-4 below a 2 x 2 emitter at height 1
 /// (beyond the shadow rays' stopping point, so it blocks none) sees the emitter from almost no

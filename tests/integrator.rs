@@ -181,14 +181,7 @@ fn area_light_reflection_matches_the_analytic_answer() {
         (matte, 1.0, 0.5 * centre_form_factor(1.0, 1.0, 1.0)),
     ] {
         let eye = Vec3::new(0.0, 0.0, 0.5);
-        // Looking straight down: camera x = world x, y = world y, forward = world -z.
-        let mut camera = look_at(eye, Vec3::new(0.0, 1.0, 0.0), 4.0);
-        camera.camera_to_world = Mat4::from_cols(
-            Vec3::X.extend(0.0),
-            Vec3::Y.extend(0.0),
-            Vec3::NEG_Z.extend(0.0),
-            eye.extend(1.0),
-        );
+        let camera = looking_down(eye, 4.0);
         let mut scene = empty_scene(camera, 8, 8);
         scene.materials.push(material);
         let floor = scene.materials.len() - 1;
@@ -231,13 +224,7 @@ fn shadow_rays_pass_through_null_surfaces() {
     let v = Vec3::new;
     let scene = |with_null: bool| {
         let eye = v(0.0, 0.0, 0.5);
-        let mut camera = look_at(eye, v(0.0, 1.0, 0.0), 60.0);
-        camera.camera_to_world = Mat4::from_cols(
-            Vec3::X.extend(0.0),
-            Vec3::Y.extend(0.0),
-            Vec3::NEG_Z.extend(0.0),
-            eye.extend(1.0),
-        );
+        let camera = looking_down(eye, 60.0);
         let mut scene = empty_scene(camera, 8, 8);
         let floor = matte(&mut scene, Vec3::splat(0.5));
         scene.materials.push(MaterialDesc::Null);

@@ -60,6 +60,18 @@ pub fn look_at(eye: Vec3, target: Vec3, fov_degrees: f32) -> CameraDesc {
     }
 }
 
+/// A camera looking straight down from `eye`: camera x = world x, y = world y.
+pub fn looking_down(eye: Vec3, fov: f32) -> CameraDesc {
+    let mut camera = look_at(eye, eye + Vec3::Y, fov);
+    camera.camera_to_world = Mat4::from_cols(
+        Vec3::X.extend(0.0),
+        Vec3::Y.extend(0.0),
+        Vec3::NEG_Z.extend(0.0),
+        eye.extend(1.0),
+    );
+    camera
+}
+
 pub fn empty_scene(camera: CameraDesc, width: u32, height: u32) -> SceneDesc {
     let mut scene = SceneDesc::empty(location());
     scene.camera = camera;
