@@ -9,7 +9,7 @@ use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{
     ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc,
-    MicrofacetDistribution, SceneDesc, ShapeDesc, ToneMap,
+    MicrofacetDistribution, Roughness, SceneDesc, ShapeDesc, ToneMap,
 };
 use crate::bsdf::microfacet::clamp_alpha;
 use crate::bsdf::microfacet_distribution::{DistributionKind, Microfacet};
@@ -408,20 +408,18 @@ fn material(desc: &MaterialDesc) -> Material {
             reflectance: color(reflectance),
             eta: *eta,
             k: *k,
-            distribution: roughness.map(|r| microfacet(r.distribution, r.alpha_u, r.alpha_v)),
+            distribution: roughness.as_ref().map(microfacet),
         },
         MaterialDesc::RoughDielectric {
             reflectance,
             transmittance,
             ior,
-            alpha_u,
-            alpha_v,
-            distribution,
+            roughness,
         } => Material::RoughDielectric {
             reflectance: color(reflectance),
             transmittance: color(transmittance),
             eta: *ior,
-            distribution: microfacet(*distribution, *alpha_u, *alpha_v),
+            distribution: microfacet(roughness),
         },
         MaterialDesc::ThinDielectric {
             reflectance,
@@ -487,12 +485,12 @@ fn material(desc: &MaterialDesc) -> Material {
 }
 
 /// The BSDF's distribution of the description's kind and alphas.
-fn microfacet(distribution: MicrofacetDistribution, alpha_u: f32, alpha_v: f32) -> Microfacet {
-    let kind = match distribution {
+fn microfacet(roughness: &Roughness) -> Microfacet {
+    let kind = match roughness.distribution {
         MicrofacetDistribution::Beckmann => DistributionKind::Beckmann,
         MicrofacetDistribution::Ggx => DistributionKind::TrowbridgeReitz,
     };
-    Microfacet::new(kind, alpha_u, alpha_v)
+    Microfacet::new(kind, roughness.alpha_u, roughness.alpha_v)
 }
 
 fn image_texture(image: &ImageTexture) -> texture::ImageTexture {

@@ -309,15 +309,12 @@ pub enum MaterialDesc {
         k: Vec3,
         roughness: Option<Roughness>,
     },
-    /// A microfacet dielectric interface (Walter et al. 2007): `ior` inside over outside,
-    /// `alpha_u`, `alpha_v` the roughness of `distribution` along u and v.
+    /// A microfacet dielectric interface (Walter et al. 2007): `ior` inside over outside.
     RoughDielectric {
         reflectance: ColorParam,
         transmittance: ColorParam,
         ior: f32,
-        alpha_u: f32,
-        alpha_v: f32,
-        distribution: MicrofacetDistribution,
+        roughness: Roughness,
     },
     /// A thin dielectric sheet of index `ior` (relative to its surroundings): mirror reflection
     /// and straight transmission, interreflections summed.

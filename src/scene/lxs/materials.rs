@@ -129,9 +129,11 @@ impl Parser {
                     reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
                     transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
                     ior: self.constant_float(params, "index", 1.5, line)?,
-                    alpha_u: clamp(u),
-                    alpha_v: clamp(v),
-                    distribution: crate::scene::desc::MicrofacetDistribution::Ggx,
+                    roughness: Roughness {
+                        distribution: MicrofacetDistribution::Ggx,
+                        alpha_u: clamp(u),
+                        alpha_v: clamp(v),
+                    },
                 }
             }
             "metal2" => {

@@ -274,21 +274,12 @@ fn convert(cx: &mut Converter, object: &Object) -> Result<Converted, SceneError>
             let transmittance = cx.color(object, "specular_transmittance", Vec3::ONE);
             let ior = int / ext;
             match object.plugin.as_str() {
-                "roughdielectric" => {
-                    let Roughness {
-                        distribution,
-                        alpha_u,
-                        alpha_v,
-                    } = roughness(cx, object);
-                    MaterialDesc::RoughDielectric {
-                        reflectance,
-                        transmittance,
-                        ior,
-                        alpha_u,
-                        alpha_v,
-                        distribution,
-                    }
-                }
+                "roughdielectric" => MaterialDesc::RoughDielectric {
+                    reflectance,
+                    transmittance,
+                    ior,
+                    roughness: roughness(cx, object),
+                },
                 "thindielectric" => MaterialDesc::ThinDielectric {
                     reflectance,
                     transmittance,
