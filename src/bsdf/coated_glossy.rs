@@ -47,32 +47,53 @@ pub fn coating_f0(ks: Vec3, index: f32) -> Vec3 {
 /// The half vector h of two unit vectors and wo . h = wi . h. The cosine is |wo + wi| / 2
 /// ((wo + wi) . wo = 1 + wo . wi = |wo + wi|^2 / 2), which stays accurate when wo and wi are
 /// nearly opposite, where 1 + wo . wi cancels.
-fn half_vector(wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
+pub(super) fn half_vector(wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
     let sum = wo + wi;
     let length = sum.length();
     (length > 0.0 && length.is_finite()).then(|| (sum / length, 0.5 * length))
 }
 
+/// Schlick's roughness r clamped to [`ROUGHNESS_MIN`], 1]; NaN becomes the minimum.
+pub(super) fn clamp_roughness(roughness: f32) -> f32 {
+    if roughness >= ROUGHNESS_MIN {
+        roughness.min(1.0)
+    } else {
+        ROUGHNESS_MIN
+    }
+}
+
+/// Schlick's Z of roughness r, which is pi times the GGX distribution with alpha^2 = r
+/// (Walter et al. 2007, eq. 33: D = alpha^2 / (pi (1 + (alpha^2 - 1) cos^2)^2)).
+pub(super) fn schlick_z(r: f32, cos_h: f32) -> f32 {
+    let d = 1.0 + (r - 1.0) * cos_h * cos_h;
+    r / (d * d)
+}
+
+/// Schlick's shadowing G(c) = c / (c (1 - r) + r) of one direction.
+pub(super) fn schlick_g(r: f32, c: f32) -> f32 {
+    c / (c * (1.0 - r) + r)
+}
+
+/// A half vector drawn with density Z(cos_h) cos_h / pi per solid angle (its inverse CDF in
+/// cos^2 is u / (r (1 - u) + u)).
+pub(super) fn sample_schlick_half(r: f32, u: Vec2) -> Vec3 {
+    let cos2 = u.x / (r * (1.0 - u.x) + u.x);
+    let (cos_t, sin_t) = (cos2.sqrt(), (1.0 - cos2).max(0.0).sqrt());
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+}
+
 impl CoatedGlossy {
     fn r(&self) -> f32 {
-        if self.roughness >= ROUGHNESS_MIN {
-            self.roughness.min(1.0)
-        } else {
-            ROUGHNESS_MIN
-        }
+        clamp_roughness(self.roughness)
     }
 
-    /// Schlick's Z, which is pi times the GGX distribution with alpha^2 = r (Walter et al.
-    /// 2007, eq. 33: D = alpha^2 / (pi (1 + (alpha^2 - 1) cos^2)^2)).
     fn z(&self, cos_h: f32) -> f32 {
-        let r = self.r();
-        let d = 1.0 + (r - 1.0) * cos_h * cos_h;
-        r / (d * d)
+        schlick_z(self.r(), cos_h)
     }
 
     fn g(&self, c: f32) -> f32 {
-        let r = self.r();
-        c / (c * (1.0 - r) + r)
+        schlick_g(self.r(), c)
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
@@ -116,11 +137,7 @@ impl CoatedGlossy {
             cosine_hemisphere(Vec2::new(2.0 * u.x, u.y))
         } else {
             let u1 = (2.0 * u.x - 1.0).min(1.0);
-            let r = self.r();
-            let cos2 = u1 / (r * (1.0 - u1) + u1);
-            let (cos_t, sin_t) = (cos2.sqrt(), (1.0 - cos2).max(0.0).sqrt());
-            let phi = 2.0 * PI * u.y;
-            let h = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+            let h = sample_schlick_half(self.r(), Vec2::new(u1, u.y));
             2.0 * wo.dot(h) * h - wo
         };
         BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))

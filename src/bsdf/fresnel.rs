@@ -57,6 +57,27 @@ pub fn fr_conductor(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
     0.5 * (rp + rs)
 }
 
+/// pbrt-v1's `FresnelApproxEta`: the real index whose normal-incidence reflectance
+/// ((eta - 1) / (eta + 1))^2 is `reflectance`, eta = (1 + sqrt(R)) / (1 - sqrt(R)), with R
+/// clamped to [0, 0.999] as pbrt-v1 does, so that eta stays finite.
+pub fn approx_eta(reflectance: Vec3) -> Vec3 {
+    let root = reflectance.clamp(Vec3::ZERO, Vec3::splat(0.999)).powf(0.5);
+    (Vec3::ONE + root) / (Vec3::ONE - root)
+}
+
+/// pbrt-v1's approximate conductor Fresnel term (`FrCond`, after Born and Wolf's limit of a
+/// large index) for absorption k = 0, which LuxRender's `shinymetal` uses: with c = cos_i,
+///   R_parl^2 = (eta^2 c^2 - 2 eta c + 1) / (eta^2 c^2 + 2 eta c + 1),
+///   R_perp^2 = (eta^2 - 2 eta c + c^2) / (eta^2 + 2 eta c + c^2),
+/// and F = (R_parl^2 + R_perp^2) / 2: ((eta - 1) / (eta + 1))^2 at normal incidence, 1 at
+/// grazing incidence.
+pub fn fr_conductor_approx(cos_i: f32, eta: f32) -> f32 {
+    let c = cos_i.abs().min(1.0);
+    let parl = ((eta * c - 1.0) * (eta * c - 1.0)) / ((eta * c + 1.0) * (eta * c + 1.0));
+    let perp = ((eta - c) * (eta - c)) / ((eta + c) * (eta + c));
+    0.5 * (parl + perp)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,6 +11,7 @@
 //! outputs, so that no NaN or infinity escapes.
 
 pub mod beckmann;
+pub mod car_paint;
 pub mod coated_glossy;
 mod conductor;
 mod dielectric;
@@ -24,10 +25,13 @@ pub mod oren_nayar;
 pub mod plastic;
 pub mod rough_dielectric;
 pub mod rough_plastic;
+pub mod shiny_metal;
 mod smooth_conductor;
 mod specular_reflection;
 pub mod thin_dielectric;
+pub mod velvet;
 
+pub use car_paint::{CarPaint, CarPaintLobe};
 pub use coated_glossy::CoatedGlossy;
 pub use conductor::{ConductorFresnel, RoughConductor};
 use dielectric::Dielectric;
@@ -40,9 +44,11 @@ use oren_nayar::OrenNayar;
 pub use plastic::Plastic;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
+pub use shiny_metal::ShinyMetal;
 pub use smooth_conductor::SmoothConductor;
 use specular_reflection::SpecularReflection;
 pub use thin_dielectric::ThinDielectric;
+pub use velvet::Velvet;
 
 #[derive(Clone, Copy, Debug)]
 pub enum Bsdf {
@@ -89,6 +95,13 @@ pub enum Bsdf {
     /// A smooth conductor: mirror reflection weighted by the exact Fresnel of a complex index
     /// (Mitsuba's `conductor`).
     SmoothConductor(SmoothConductor),
+    /// A mirror plus a Blinn microfacet lobe, each with pbrt-v1's approximate conductor Fresnel
+    /// (LuxRender's `shinymetal`).
+    ShinyMetal(ShinyMetal),
+    /// Asperity scattering (LuxRender's `velvet`).
+    Velvet(Velvet),
+    /// Three Schlick microfacet lobes over a diffuse base (LuxRender's `carpaint`).
+    CarPaint(CarPaint),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -166,6 +179,9 @@ impl Bsdf {
             Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::RoughPlastic(p) => p.eval(wo, wi),
             Bsdf::RoughConductor(c) => c.eval(wo, wi),
+            Bsdf::ShinyMetal(m) => m.eval(wo, wi),
+            Bsdf::Velvet(v) => v.eval(wo, wi),
+            Bsdf::CarPaint(c) => c.eval(wo, wi),
             Bsdf::SpecularReflection { .. }
             | Bsdf::Dielectric { .. }
             | Bsdf::ThinDielectric(_)
@@ -194,6 +210,9 @@ impl Bsdf {
             Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
             Bsdf::RoughConductor(c) => c.pdf(wo, wi),
+            Bsdf::ShinyMetal(m) => m.pdf(wo, wi),
+            Bsdf::Velvet(v) => v.pdf(wo, wi),
+            Bsdf::CarPaint(c) => c.pdf(wo, wi),
             Bsdf::SpecularReflection { .. }
             | Bsdf::Dielectric { .. }
             | Bsdf::ThinDielectric(_)
@@ -240,6 +259,9 @@ impl Bsdf {
             Bsdf::RoughPlastic(p) => p.sample(wo, u, canonical(uc)),
             Bsdf::RoughConductor(c) => c.sample(wo, u),
             Bsdf::SmoothConductor(c) => c.sample(wo),
+            Bsdf::ShinyMetal(m) => m.sample(wo, u, canonical(uc)),
+            Bsdf::Velvet(v) => v.sample(wo, u),
+            Bsdf::CarPaint(c) => c.sample(wo, u),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -265,6 +287,7 @@ impl Bsdf {
             } => alpha_x != alpha_y,
             Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
             Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
+            Bsdf::ShinyMetal(m) => m.exponent_x != m.exponent_y,
             _ => false,
         }
     }
@@ -303,6 +326,9 @@ impl Bsdf {
             Bsdf::RoughPlastic(p) => p.albedo(),
             Bsdf::RoughConductor(c) => c.reflectance * c.fresnel.eval(1.0),
             Bsdf::SmoothConductor(c) => c.reflectance * fresnel::fr_conductor(1.0, c.eta, c.k),
+            Bsdf::ShinyMetal(m) => m.albedo(),
+            Bsdf::Velvet(v) => v.reflectance,
+            Bsdf::CarPaint(c) => c.albedo(),
         }
     }
 }
