@@ -8,7 +8,7 @@
 //!   f_k = Ks_k F_k(wi . h) Z(cos_h) / pi G(cos_o) G(cos_i) / (4 cos_o cos_i),
 //!
 //! with F_k(c) = R_k + (1 - R_k)(1 - c)^5 Schlick's Fresnel of normal reflectance R_k
-//! (`FresnelSlick(r, 0)`), Z and G Schlick's ([`super::coated_glossy`]). The base is
+//! (`FresnelSlick(r, 0)`), Z and G Schlick's ([`super::schlick_distribution`]). The base is
 //! LuxRender's `SchlickBRDF(Kd, Ks = 0, Ka, d, roughness 1)`: foton's [`CoatedGlossy`] with
 //! a coating of zero reflectance at normal incidence and roughness 1, whose Fresnel term still
 //! rises towards grazing angles.
@@ -16,15 +16,12 @@
 //! Sampling picks one of the present components uniformly (as `MultiBSDF` does) and the pdf
 //! is their mean; a lobe draws h with density Z(cos_h) cos_h / pi and reflects wo about it.
 
-use std::f32::consts::FRAC_1_PI;
-
 use glam::{Vec2, Vec3};
 
 use super::BsdfSample;
-use super::coated_glossy::{
-    CoatedGlossy, clamp_roughness, half_vector, sample_schlick_half, schlick_g, schlick_z,
-};
+use super::coated_glossy::CoatedGlossy;
 use super::fresnel::schlick;
+use super::schlick_distribution::{SchlickLobe, half_vector};
 
 /// One of the three specular lobes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,20 +46,13 @@ impl CarPaintLobe {
         self.specular.max_element() > 0.0 && self.roughness > 0.0
     }
 
-    fn r(&self) -> f32 {
-        clamp_roughness(self.roughness * self.roughness)
+    fn lobe(&self) -> SchlickLobe {
+        SchlickLobe::new(self.roughness * self.roughness)
     }
 
     fn eval(&self, wo: Vec3, wi: Vec3, h: Vec3, cos_wh: f32) -> Vec3 {
-        let r = self.r();
         let fresnel = schlick(Vec3::splat(self.f0.clamp(0.0, 1.0)), cos_wh);
-        let g = schlick_g(r, wo.z) * schlick_g(r, wi.z);
-        self.specular * fresnel * (schlick_z(r, h.z) * FRAC_1_PI * g / (4.0 * wo.z * wi.z))
-    }
-
-    /// Z(cos_h) cos_h / pi per solid angle of h, times the reflection's 1 / (4 wo . h).
-    fn pdf(&self, h: Vec3, cos_wh: f32) -> f32 {
-        schlick_z(self.r(), h.z) * h.z * FRAC_1_PI / (4.0 * cos_wh.max(1e-7))
+        self.specular * fresnel * self.lobe().eval(wo, wi, h)
     }
 }
 
@@ -96,7 +86,7 @@ impl CarPaint {
         let Some((h, cos_wh)) = half_vector(wo, wi) else {
             return 0.0;
         };
-        let lobes: f32 = self.present_lobes().map(|l| l.pdf(h, cos_wh)).sum();
+        let lobes: f32 = self.present_lobes().map(|l| l.lobe().pdf(h, cos_wh)).sum();
         (lobes + self.base.pdf(wo, wi)) / self.components() as f32
     }
 
@@ -110,10 +100,7 @@ impl CarPaint {
         let pick = (scaled as usize).min(n - 1);
         let u = Vec2::new((scaled - pick as f32).min(1.0 - f32::EPSILON / 2.0), u.y);
         let wi = match self.present_lobes().nth(pick) {
-            Some(lobe) => {
-                let h = sample_schlick_half(lobe.r(), u);
-                2.0 * wo.dot(h) * h - wo
-            }
+            Some(lobe) => lobe.lobe().sample(wo, u),
             None => self.base.sample(wo, u)?.wi,
         };
         BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))

@@ -65,17 +65,30 @@ pub fn approx_eta(reflectance: Vec3) -> Vec3 {
     (Vec3::ONE + root) / (Vec3::ONE - root)
 }
 
-/// pbrt-v1's approximate conductor Fresnel term (`FrCond`, after Born and Wolf's limit of a
-/// large index) for absorption k = 0, which LuxRender's `shinymetal` uses: with c = cos_i,
-///   R_parl^2 = (eta^2 c^2 - 2 eta c + 1) / (eta^2 c^2 + 2 eta c + 1),
-///   R_perp^2 = (eta^2 - 2 eta c + c^2) / (eta^2 + 2 eta c + c^2),
-/// and F = (R_parl^2 + R_perp^2) / 2: ((eta - 1) / (eta + 1))^2 at normal incidence, 1 at
-/// grazing incidence.
-pub fn fr_conductor_approx(cos_i: f32, eta: f32) -> f32 {
-    let c = cos_i.abs().min(1.0);
-    let parl = ((eta * c - 1.0) * (eta * c - 1.0)) / ((eta * c + 1.0) * (eta * c + 1.0));
-    let perp = ((eta - c) * (eta - c)) / ((eta + c) * (eta + c));
-    0.5 * (parl + perp)
+/// pbrt-v1's `FresnelApproxK`: the absorption 2 sqrt(R / (1 - R)) paired with
+/// [`approx_eta`] (R clamped to [0, 0.999]).
+pub fn approx_k(reflectance: Vec3) -> Vec3 {
+    let r = reflectance.clamp(Vec3::ZERO, Vec3::splat(0.999));
+    2.0 * (r / (Vec3::ONE - r)).powf(0.5)
+}
+
+/// LuxRender's `FresnelGeneral` of a real part `eta` and absorption `k` (`fresnelgeneral.cpp`
+/// with `FrFull` of `core/reflection/fresnel.cpp`): the refracted cosine cos_t = sqrt(1 -
+/// (sin_i / eta)^2) (clamped) of Snell's law on the real part, then
+///   R_parl^2 = ((eta^2 + k^2) c_i^2 + c_t^2 - 2 eta c_i c_t) / (... + 2 eta c_i c_t),
+///   R_perp^2 = ((eta^2 + k^2) c_t^2 + c_i^2 - 2 eta c_i c_t) / (... + 2 eta c_i c_t),
+/// F = (R_parl^2 + R_perp^2) / 2: ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2) at normal
+/// incidence, 1 at grazing incidence.
+pub fn fr_general(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
+    let c_i = cos_i.abs().min(1.0);
+    let sin_i = (1.0 - c_i * c_i).max(0.0).sqrt();
+    let sin_t = (Vec3::splat(sin_i) / eta).clamp(Vec3::ZERO, Vec3::ONE);
+    let c_t = (Vec3::ONE - sin_t * sin_t).powf(0.5);
+    let norm2 = eta * eta + k * k;
+    let cross = 2.0 * c_i * c_t * eta;
+    let parl = norm2 * (c_i * c_i) + c_t * c_t;
+    let perp = norm2 * c_t * c_t + Vec3::splat(c_i * c_i);
+    0.5 * ((parl - cross) / (parl + cross) + (perp - cross) / (perp + cross))
 }
 
 #[cfg(test)]

@@ -25,6 +25,7 @@ pub mod oren_nayar;
 pub mod plastic;
 pub mod rough_dielectric;
 pub mod rough_plastic;
+mod schlick_distribution;
 pub mod shiny_metal;
 mod smooth_conductor;
 mod specular_reflection;
@@ -95,8 +96,8 @@ pub enum Bsdf {
     /// A smooth conductor: mirror reflection weighted by the exact Fresnel of a complex index
     /// (Mitsuba's `conductor`).
     SmoothConductor(SmoothConductor),
-    /// A mirror plus a Blinn microfacet lobe, each with pbrt-v1's approximate conductor Fresnel
-    /// (LuxRender's `shinymetal`).
+    /// A mirror plus a Schlick microfacet lobe, each with a conductor Fresnel term fitted to a
+    /// reflectance (LuxRender's `shinymetal`).
     ShinyMetal(ShinyMetal),
     /// Asperity scattering (LuxRender's `velvet`).
     Velvet(Velvet),
@@ -287,7 +288,6 @@ impl Bsdf {
             } => alpha_x != alpha_y,
             Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
             Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
-            Bsdf::ShinyMetal(m) => m.exponent_x != m.exponent_y,
             _ => false,
         }
     }

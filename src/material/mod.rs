@@ -12,7 +12,7 @@ use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::{
-    Bsdf, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic, RoughConductor,
+    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ShinyMetal, Velvet, ConductorFresnel, DiffuseTranslucent, Plastic, RoughConductor,
     RoughDielectric, RoughPlastic, SmoothConductor, ThinDielectric,
 };
 use crate::texture::ShadingPoint;
@@ -107,6 +107,26 @@ pub enum Material {
         nonlinear: bool,
         tables: &'static CoatingTables,
     },
+    /// LuxRender's `shinymetal`: a mirror and a Schlick lobe of roughness r, their Fresnel
+    /// terms fitted to `mirror` and `glossy`.
+    FittedConductor {
+        glossy: Color,
+        mirror: Color,
+        roughness: f32,
+    },
+    /// Asperity scattering: Legendre coefficients of the phase function, optical thickness.
+    Velvet {
+        reflectance: Color,
+        legendre: [f32; 3],
+        thickness: f32,
+    },
+    /// Three Schlick lobes over a diffuse base under an absorbing clear coat.
+    CarPaint {
+        diffuse: Color,
+        absorption: Color,
+        depth: f32,
+        lobes: [PaintLobe; 3],
+    },
     /// Rays pass through.
     Null,
     /// `amount` (a float input) of material `second`, `1 - amount` of `first`.
@@ -124,6 +144,15 @@ pub enum Material {
     OneSided {
         material: usize,
     },
+}
+
+/// One specular lobe of [`Material::CarPaint`]: its colour, normal-incidence Fresnel
+/// reflectance and roughness.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PaintLobe {
+    pub specular: Color,
+    pub f0: f32,
+    pub roughness: f32,
 }
 
 #[derive(Resource, Clone, Debug)]
@@ -176,6 +205,20 @@ impl MaterialTable {
                     diffuse, specular, ..
                 } => &[diffuse, specular],
                 Material::Mix { amount, .. } => &[amount],
+                Material::FittedConductor { glossy, mirror, .. } => &[glossy, mirror],
+                Material::Velvet { reflectance, .. } => &[reflectance],
+                Material::CarPaint {
+                    diffuse,
+                    absorption,
+                    lobes,
+                    ..
+                } => &[
+                    diffuse,
+                    absorption,
+                    &lobes[0].specular,
+                    &lobes[1].specular,
+                    &lobes[2].specular,
+                ],
                 Material::Bump { .. } => return true,
                 Material::Null | Material::OneSided { .. } => &[],
             };
@@ -421,6 +464,43 @@ impl Inputs<'_> {
                 distribution: TrowbridgeReitz::new(*alpha, *alpha),
                 nonlinear: *nonlinear,
                 tables,
+            }),
+            Material::FittedConductor {
+                glossy,
+                mirror,
+                roughness,
+            } => Bsdf::ShinyMetal(ShinyMetal {
+                glossy: color(glossy),
+                mirror: color(mirror),
+                roughness: *roughness,
+            }),
+            Material::Velvet {
+                reflectance,
+                legendre,
+                thickness,
+            } => Bsdf::Velvet(Velvet {
+                reflectance: color(reflectance),
+                legendre: *legendre,
+                thickness: *thickness,
+            }),
+            Material::CarPaint {
+                diffuse,
+                absorption,
+                depth,
+                lobes,
+            } => Bsdf::CarPaint(CarPaint {
+                base: CoatedGlossy {
+                    diffuse: color(diffuse),
+                    specular: Vec3::ZERO,
+                    absorption: color(absorption),
+                    depth: *depth,
+                    roughness: 1.0,
+                },
+                lobes: lobes.map(|l| CarPaintLobe {
+                    specular: color(&l.specular),
+                    f0: l.f0,
+                    roughness: l.roughness,
+                }),
             }),
             Material::Null
             | Material::Mix { .. }

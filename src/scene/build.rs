@@ -26,7 +26,7 @@ use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
 use crate::material::bump::BumpMap;
 use crate::material::texture::{self, TextureTable};
-use crate::material::{Color, Material, MaterialTable};
+use crate::material::{Color, Material, MaterialTable, PaintLobe};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::shape::geometry::GeometryNeeds;
@@ -456,6 +456,39 @@ fn material(desc: &MaterialDesc) -> Material {
             alpha: *alpha,
             nonlinear: *nonlinear,
             tables: CoatingTables::of(clamp_alpha(*alpha), *ior),
+        },
+        MaterialDesc::FittedConductor {
+            glossy,
+            mirror,
+            roughness,
+        } => Material::FittedConductor {
+            glossy: color(glossy),
+            mirror: color(mirror),
+            roughness: *roughness,
+        },
+        MaterialDesc::Velvet {
+            reflectance,
+            legendre,
+            thickness,
+        } => Material::Velvet {
+            reflectance: color(reflectance),
+            legendre: *legendre,
+            thickness: *thickness,
+        },
+        MaterialDesc::CarPaint {
+            diffuse,
+            absorption,
+            depth,
+            lobes,
+        } => Material::CarPaint {
+            diffuse: color(diffuse),
+            absorption: color(absorption),
+            depth: *depth,
+            lobes: [0, 1, 2].map(|i| PaintLobe {
+                specular: color(&lobes[i].specular),
+                f0: lobes[i].f0,
+                roughness: lobes[i].roughness,
+            }),
         },
         MaterialDesc::Null => Material::Null,
         MaterialDesc::OneSided { material } => Material::OneSided {

@@ -333,6 +333,29 @@ pub enum MaterialDesc {
         alpha: Option<f32>,
         nonlinear: bool,
     },
+    /// A mirror plus a glossy Schlick microfacet lobe of roughness r = `roughness`, each with a
+    /// conductor Fresnel term whose complex index is fitted to a reflectance (`mirror`,
+    /// `glossy`; pbrt-v1's `FresnelApproxEta`/`FresnelApproxK`): LuxRender's `shinymetal`.
+    FittedConductor {
+        glossy: ColorParam,
+        mirror: ColorParam,
+        roughness: f32,
+    },
+    /// Asperity scattering of a thin layer (Koenderink and Pont 2002): `legendre` the phase
+    /// function's coefficients A1..A3, `thickness` the layer's optical thickness.
+    Velvet {
+        reflectance: ColorParam,
+        legendre: [f32; 3],
+        thickness: f32,
+    },
+    /// Car paint (Günther et al. 2005): three Schlick microfacet lobes over a diffuse base of
+    /// `diffuse` under a clear coat of absorption `absorption` and thickness `depth`.
+    CarPaint {
+        diffuse: ColorParam,
+        absorption: ColorParam,
+        depth: f32,
+        lobes: [CarPaintLobeDesc; 3],
+    },
     /// Invisible: rays pass through (for light emitters).
     Null,
     /// `amount` of `second`, `1 - amount` of `first`.
@@ -351,6 +374,15 @@ pub enum MaterialDesc {
     /// `material` seen from the side its surface's normal faces, black from the back (Mitsuba's
     /// reflecting BSDFs outside `twosided`). Any other material scatters from both sides.
     OneSided { material: MaterialId },
+}
+
+/// One specular lobe of [`MaterialDesc::CarPaint`]: its colour, its Fresnel reflectance at
+/// normal incidence, its roughness (Schlick's r is its square).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CarPaintLobeDesc {
+    pub specular: ColorParam,
+    pub f0: f32,
+    pub roughness: f32,
 }
 
 /// A microfacet distribution of normals.

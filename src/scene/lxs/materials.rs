@@ -6,11 +6,11 @@ use glam::{Vec2, Vec3};
 
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
-use super::{nk, paths};
+use super::{car_paint, nk, paths};
 use crate::bsdf::coated_glossy::coating_f0;
 use crate::material::bump::DEFAULT_SAMPLE_DISTANCE;
 use crate::scene::desc::{
-    ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution, Roughness, SceneError,
+    CarPaintLobeDesc, ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution, Roughness, SceneError,
 };
 use crate::scene::io::image;
 use crate::texture::{Mapping2D, TextureNode};
@@ -156,6 +156,28 @@ impl Parser {
             }
             "metal" => self.metal(line, params)?,
             "mattetranslucent" => self.matte_translucent(line, params)?,
+            "shinymetal" => self.shiny_metal(line, params)?,
+            // `materials/velvet.cpp` (1.x): Kd 0.3, p1 -2, p2 20, p3 2 (each clamped to
+            // [-100, 100]), thickness 0.1 (clamped to [0, 1]).
+            "velvet" => {
+                let reflectance = self.color_param(params, "Kd", Vec3::splat(0.3), line)?;
+                let mut coefficient = |name: &str, default: f32| {
+                    self.constant_float(params, name, default, line)
+                        .map(|a| a.clamp(-100.0, 100.0))
+                };
+                let legendre = [
+                    coefficient("p1", -2.0)?,
+                    coefficient("p2", 20.0)?,
+                    coefficient("p3", 2.0)?,
+                ];
+                let thickness = self.constant_float(params, "thickness", 0.1, line)?;
+                MaterialDesc::Velvet {
+                    reflectance,
+                    legendre,
+                    thickness: thickness.clamp(0.0, 1.0),
+                }
+            }
+            "carpaint" => self.car_paint(line, params)?,
             "null" => MaterialDesc::Null,
             "mix" => {
                 let mut named = |key: &str| -> Result<usize, SceneError> {
@@ -231,6 +253,86 @@ impl Parser {
                 alpha_u: blinn_alpha(u),
                 alpha_v: blinn_alpha(v),
             }),
+        })
+    }
+
+    /// `shinymetal` (LuxRender 1.x `materials/shinymetal.cpp`): `Ks`, `Kr` (1), `uroughness`,
+    /// `vroughness` (0.1; Schlick's r = u v, foton's lobe isotropic); `film` (thin-film
+    /// thickness in nm, 0) is not modelled: a warning when positive.
+    fn shiny_metal(
+        &mut self,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<MaterialDesc, SceneError> {
+        let glossy = self.color_param(params, "Ks", Vec3::ONE, line)?;
+        let mirror = self.color_param(params, "Kr", Vec3::ONE, line)?;
+        let u = self.constant_float(params, "uroughness", 0.1, line)?;
+        let v = self.constant_float(params, "vroughness", 0.1, line)?;
+        if self.constant_float(params, "film", 0.0, line)? > 0.0 {
+            self.warn(
+                line,
+                "shinymetal: \"film\" (thin-film interference) unsupported: ignored",
+            );
+        }
+        self.constant_float(params, "filmindex", 1.5, line)?;
+        Ok(MaterialDesc::FittedConductor {
+            glossy,
+            mirror,
+            roughness: u * v,
+        })
+    }
+
+    /// `carpaint` (LuxRender 1.x `materials/carpaint.cpp`): a `name` picks a preset (every
+    /// parameter but `Ka` and `d` then ignored, as in LuxRender; an unknown name gets a warning
+    /// and the first preset, "ford f8"); without one, `Kd`, `Ks1`..`Ks3`, `R1`..`R3`, `M1`..`M3`
+    /// default to that preset's values. `Ka` (0) and `d` (0) are the clear coat's absorption.
+    fn car_paint(
+        &mut self,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<MaterialDesc, SceneError> {
+        let absorption = self.color_param(params, "Ka", Vec3::ZERO, line)?;
+        let depth = self.constant_float(params, "d", 0.0, line)?;
+        let name = params.string("name")?.unwrap_or_default();
+        let default = &car_paint::PRESETS[0];
+        let (diffuse, lobes) = if name.is_empty() {
+            let diffuse = self.color_param(params, "Kd", default.kd, line)?;
+            let mut lobes = Vec::with_capacity(3);
+            for k in 0..3 {
+                let n = k + 1;
+                lobes.push(CarPaintLobeDesc {
+                    specular: self.color_param(params, &format!("Ks{n}"), default.ks[k], line)?,
+                    f0: self.constant_float(params, &format!("R{n}"), default.r[k], line)?,
+                    roughness: self.constant_float(params, &format!("M{n}"), default.m[k], line)?,
+                });
+            }
+            (diffuse, lobes)
+        } else {
+            let paint = car_paint::preset(&name).unwrap_or_else(|| {
+                self.warn(
+                    line,
+                    format!("carpaint \"{name}\": no such preset: {}", default.name),
+                );
+                default
+            });
+            params.ignore_all();
+            let lobes = (0..3)
+                .map(|k| CarPaintLobeDesc {
+                    specular: ColorParam::Constant(paint.ks[k]),
+                    f0: paint.r[k],
+                    roughness: paint.m[k],
+                })
+                .collect();
+            (ColorParam::Constant(paint.kd), lobes)
+        };
+        let lobes: [CarPaintLobeDesc; 3] = lobes
+            .try_into()
+            .map_err(|_| self.error(line, "carpaint: three lobes expected"))?;
+        Ok(MaterialDesc::CarPaint {
+            diffuse,
+            absorption,
+            depth,
+            lobes,
         })
     }
 

@@ -2,6 +2,7 @@
 //! as the course's scenes extend it.
 
 mod camera;
+mod car_paint;
 mod lights;
 mod materials;
 mod nk;
