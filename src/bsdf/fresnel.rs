@@ -88,7 +88,13 @@ pub fn fr_general(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
     let cross = 2.0 * c_i * c_t * eta;
     let parl = norm2 * (c_i * c_i) + c_t * c_t;
     let perp = norm2 * c_t * c_t + Vec3::splat(c_i * c_i);
-    0.5 * ((parl - cross) / (parl + cross) + (perp - cross) / (perp + cross))
+    // Both sums vanish only at grazing incidence on a matched index (eta = 1, k = 0), whose
+    // limit is total reflection, as for any other index.
+    let ratio = |sum: Vec3| {
+        let r = (sum - cross) / (sum + cross);
+        Vec3::select((sum + cross).cmpgt(Vec3::ZERO), r, Vec3::ONE)
+    };
+    0.5 * (ratio(parl) + ratio(perp))
 }
 
 #[cfg(test)]

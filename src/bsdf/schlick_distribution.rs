@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 const ROUGHNESS_MIN: f32 = 1e-4;
 
 /// Schlick's roughness r clamped to [1e-4, 1]; NaN becomes the minimum.
-pub(super) fn clamp_roughness(roughness: f32) -> f32 {
+fn clamp_roughness(roughness: f32) -> f32 {
     if roughness >= ROUGHNESS_MIN {
         roughness.min(1.0)
     } else {
@@ -29,19 +29,21 @@ pub(super) fn clamp_roughness(roughness: f32) -> f32 {
     }
 }
 
-/// Schlick's Z of roughness r: pi D(h).
-pub(super) fn schlick_z(r: f32, cos_h: f32) -> f32 {
-    let d = 1.0 + (r - 1.0) * cos_h * cos_h;
+/// Schlick's Z of roughness r at the unit half vector h: pi D(h). The denominator's
+/// 1 + (r - 1) cos^2 is written sin^2 + r cos^2 from h's components, which keeps its relative
+/// precision near the peak, where it is about r and 1 - cos^2 would cancel.
+fn schlick_z(r: f32, h: Vec3) -> f32 {
+    let d = h.x * h.x + h.y * h.y + r * h.z * h.z;
     r / (d * d)
 }
 
 /// Schlick's shadowing G1(c) = c / (c (1 - r) + r) of one direction.
-pub(super) fn schlick_g(r: f32, c: f32) -> f32 {
+fn schlick_g(r: f32, c: f32) -> f32 {
     c / (c * (1.0 - r) + r)
 }
 
 /// A half vector drawn with density Z(cos_h) cos_h / pi per solid angle.
-pub(super) fn sample_schlick_half(r: f32, u: Vec2) -> Vec3 {
+fn sample_schlick_half(r: f32, u: Vec2) -> Vec3 {
     let cos2 = u.x / (r * (1.0 - u.x) + u.x);
     let (cos_t, sin_t) = (cos2.sqrt(), (1.0 - cos2).max(0.0).sqrt());
     let phi = 2.0 * PI * u.y;
@@ -74,13 +76,13 @@ impl SchlickLobe {
     /// D(h) G(wo, wi) / (4 cos_o cos_i) for wo, wi above the surface and h their half vector.
     pub(super) fn eval(&self, wo: Vec3, wi: Vec3, h: Vec3) -> f32 {
         let g = schlick_g(self.r, wo.z) * schlick_g(self.r, wi.z);
-        schlick_z(self.r, h.z) * FRAC_1_PI * g / (4.0 * wo.z * wi.z)
+        schlick_z(self.r, h) * FRAC_1_PI * g / (4.0 * wo.z * wi.z)
     }
 
     /// The density of [`SchlickLobe::sample`] at the direction whose half vector is `h`, with
     /// `cos_wh` = wo . h.
     pub(super) fn pdf(&self, h: Vec3, cos_wh: f32) -> f32 {
-        schlick_z(self.r, h.z) * h.z * FRAC_1_PI / (4.0 * cos_wh.max(1e-7))
+        schlick_z(self.r, h) * h.z * FRAC_1_PI / (4.0 * cos_wh.max(1e-7))
     }
 
     /// wo reflected about a sampled half vector (it may fall below the surface).
