@@ -301,3 +301,66 @@ fn outputs_are_finite() {
         }
     }
 }
+
+/// Closed forms. Velvet: seen and lit along the normal the scattering angle is back
+/// (x = -1: P1 = -1, P2 = 1, P3 = -1), so f = R (1 - A1 + A2 - A3) delta / (4 pi); seen and
+/// lit from opposite azimuths at 45 degrees, x = 0 (P1 = P3 = 0, P2 = -1/2) and
+/// f = R (1 - A2 / 2) delta / (4 pi cos^2 45). A Schlick lobe at normal incidence has h = n,
+/// Z = 1 / r and G = 1, so f = F(1) / (4 pi r): car paint adds Ks_k R_k / (4 pi M_k^2) over the
+/// base's Kd / pi (its Fresnel term S is 0 at normal incidence); shinymetal's glossy lobe is
+/// F(1) / (4 pi u v) and its mirror reflects F(cos_o).
+#[test]
+fn known_values_at_normal_incidence() {
+    let close = |a: Vec3, b: Vec3, what: &str| {
+        assert!(
+            (a - b).abs().max_element() <= 1e-5 * b.max_element().max(1.0),
+            "{what}: {a} vs {b}"
+        );
+    };
+    let (a, thickness) = ([0.7f32, 0.8, -1.5], 0.2);
+    let v = velvet(a, thickness);
+    let Bsdf::Velvet(Velvet { reflectance, .. }) = v else {
+        unreachable!()
+    };
+    let back = reflectance * ((1.0 - a[0] + a[1] - a[2]) * thickness / (4.0 * PI));
+    close(v.eval(Vec3::Z, Vec3::Z), back, "velvet backscatter");
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let side = reflectance * ((1.0 - a[1] / 2.0) * thickness / (4.0 * PI * 0.5));
+    close(
+        v.eval(Vec3::new(s, 0.0, s), Vec3::new(-s, 0.0, s)),
+        side,
+        "velvet at x = 0",
+    );
+
+    let lobes = [(0.3f32, 0.5f32, 0.5f32), (0.2, 0.9, 0.35), (0.1, 1.0, 0.3)];
+    let kd = Vec3::new(0.2, 0.4, 0.6);
+    let expected = kd / PI
+        + Vec3::splat(
+            lobes
+                .iter()
+                .map(|&(ks, r, m)| ks * r / (4.0 * PI * m * m))
+                .sum::<f32>(),
+        );
+    close(
+        paint(kd, lobes, 0.0, 0.0).eval(Vec3::Z, Vec3::Z),
+        expected,
+        "car paint",
+    );
+
+    let metal = shiny(0.8, 0.6, 0.3 * 0.2);
+    let Bsdf::ShinyMetal(m) = metal else {
+        unreachable!()
+    };
+    let fit = |r: Vec3, cos: f32| fr_general(cos, approx_eta(r), approx_k(r));
+    close(
+        metal.eval(Vec3::Z, Vec3::Z),
+        fit(m.glossy, 1.0) / (4.0 * PI * m.roughness),
+        "shinymetal glossy lobe",
+    );
+    let w = wo(0.6);
+    let mirror = metal.sample(w, Vec2::ZERO, 0.0).unwrap();
+    assert!(mirror.delta);
+    // A delta lobe's f |cos| is the fraction it reflects; pdf the probability of picking it.
+    close(mirror.f * mirror.wi.z, fit(m.mirror, w.z), "shinymetal mirror");
+    assert_eq!(mirror.pdf, 0.5);
+}
