@@ -342,3 +342,108 @@ fn mean_and_standard_error(image: &[Vec3]) -> (Vec3, Vec3) {
     let variance = image.iter().map(|&p| (p - mean) * (p - mean)).sum::<Vec3>() / (n - 1.0);
     (mean, (variance / n).map(f32::sqrt))
 }
+
+/// `shinymetal`: Ks and Kr as given, Schlick's r = uroughness x vroughness (LuxRender 1.x's
+/// `SchlickDistribution(u * v, ...)`); a positive `film` (thin-film interference, not
+/// modelled) is one warning.
+#[test]
+fn shinymetal_reads_its_parameters() {
+    let desc = quad_scene(
+        "shinymetal",
+        r#"Material "shinymetal" "color Ks" [0.8 0.6 0.4] "color Kr" [0.3 0.3 0.3] "float uroughness" [0.2] "float vroughness" [0.05]"#,
+    );
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    let MaterialDesc::FittedConductor {
+        glossy: ColorParam::Constant(glossy),
+        mirror: ColorParam::Constant(mirror),
+        roughness,
+    } = only_material(&desc)
+    else {
+        panic!("{:?}", desc.materials)
+    };
+    assert_eq!(*glossy, Vec3::new(0.8, 0.6, 0.4));
+    assert_eq!(*mirror, Vec3::splat(0.3));
+    assert!((roughness - 0.2 * 0.05).abs() < 1e-7, "{roughness}");
+    let film = quad_scene(
+        "shinymetal-film",
+        r#"Material "shinymetal" "float film" [300] "float filmindex" [1.4]"#,
+    );
+    assert_eq!(film.warnings.len(), 1, "{:?}", film.warnings);
+    assert!(film.warnings[0].message.contains("film"));
+}
+
+/// `velvet` with LuxRender 1.x's defaults (Kd 0.3, p1 -2, p2 20, p3 2, thickness 0.1) and its
+/// clamps (coefficients to [-100, 100], thickness to [0, 1]).
+#[test]
+fn velvet_reads_its_parameters_and_defaults() {
+    let defaults = quad_scene("velvet", r#"Material "velvet""#);
+    assert!(defaults.warnings.is_empty(), "{:?}", defaults.warnings);
+    assert_eq!(
+        only_material(&defaults),
+        &MaterialDesc::Velvet {
+            reflectance: ColorParam::Constant(Vec3::splat(0.3)),
+            legendre: [-2.0, 20.0, 2.0],
+            thickness: 0.1,
+        }
+    );
+    let clamped = quad_scene(
+        "velvet-clamped",
+        r#"Material "velvet" "float p1" [500] "float p2" [1] "float p3" [-300] "float thickness" [3]"#,
+    );
+    let MaterialDesc::Velvet {
+        legendre,
+        thickness,
+        ..
+    } = only_material(&clamped)
+    else {
+        panic!("{:?}", clamped.materials)
+    };
+    assert_eq!((*legendre, *thickness), ([100.0, 1.0, -100.0], 1.0));
+}
+
+/// `carpaint` by `name` takes the preset's values (here "blue": a blue base, its third lobe
+/// the sharpest, M3 = 0.02) and ignores Kd; an unknown name is a warning and "ford f8", also
+/// the default of each parameter given without a name.
+#[test]
+fn carpaint_presets_and_parameters() {
+    let lobes = |desc: &SceneDesc| match only_material(desc) {
+        MaterialDesc::CarPaint {
+            diffuse: ColorParam::Constant(kd),
+            lobes,
+            ..
+        } => (*kd, lobes.clone()),
+        other => panic!("{other:?}"),
+    };
+    let blue = quad_scene(
+        "carpaint-blue",
+        r#"Material "carpaint" "string name" ["blue"] "color Kd" [1 1 1]"#,
+    );
+    assert!(blue.warnings.is_empty(), "{:?}", blue.warnings);
+    let (kd, blue_lobes) = lobes(&blue);
+    assert!(kd.z > 4.0 * kd.x && kd.z < 0.2, "{kd}");
+    assert_eq!((blue_lobes[2].f0, blue_lobes[2].roughness), (0.17, 0.02));
+
+    let unknown = quad_scene(
+        "carpaint-unknown",
+        r#"Material "carpaint" "string name" ["no such paint"]"#,
+    );
+    assert_eq!(unknown.warnings.len(), 1, "{:?}", unknown.warnings);
+    let manual = quad_scene(
+        "carpaint-manual",
+        r#"Material "carpaint" "float M3" [0.05] "color Ks1" [0.5 0.5 0.5]"#,
+    );
+    assert!(manual.warnings.is_empty(), "{:?}", manual.warnings);
+    let (ford_kd, ford) = lobes(&unknown);
+    let (manual_kd, manual_lobes) = lobes(&manual);
+    assert_eq!(manual_kd, ford_kd);
+    // Float parameters pass through a colour's mean: equal up to rounding.
+    assert_eq!(manual_lobes[1].specular, ford[1].specular);
+    assert!((manual_lobes[1].f0 - ford[1].f0).abs() < 1e-6);
+    assert!((manual_lobes[1].roughness - ford[1].roughness).abs() < 1e-6);
+    assert_eq!(manual_lobes[2].roughness, 0.05);
+    assert_eq!(
+        manual_lobes[0].specular,
+        ColorParam::Constant(Vec3::splat(0.5))
+    );
+    assert_ne!(ford[2].roughness, 0.05);
+}
