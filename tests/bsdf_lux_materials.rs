@@ -89,8 +89,18 @@ fn smooth_cases() -> Vec<Bsdf> {
         shiny(1.0, 1.0, 0.6),
         velvet([-2.0, 20.0, 2.0], 0.1),
         velvet([1.0, 0.5, -0.3], 0.8),
-        paint(Vec3::splat(0.5), [(0.3, 0.5, 0.5), (0.2, 0.9, 0.35), (0.1, 1.0, 0.3)], 0.0, 0.0),
-        paint(Vec3::splat(0.9), [(0.0, 0.5, 0.5), (1.0, 0.2, 0.4), (0.0, 1.0, 0.3)], 0.5, 0.3),
+        paint(
+            Vec3::splat(0.5),
+            [(0.3, 0.5, 0.5), (0.2, 0.9, 0.35), (0.1, 1.0, 0.3)],
+            0.0,
+            0.0,
+        ),
+        paint(
+            Vec3::splat(0.9),
+            [(0.0, 0.5, 0.5), (1.0, 0.2, 0.4), (0.0, 1.0, 0.3)],
+            0.5,
+            0.3,
+        ),
     ]
 }
 
@@ -121,7 +131,10 @@ fn samples_match_eval_and_pdf_and_f_is_reciprocal() {
             let (f, pdf) = (bsdf.eval(w, s.wi), bsdf.pdf(w, s.wi));
             // The dispatch renormalises wi: at grazing angles the half vector of the sharpest
             // lobe (r = 2e-4) then moves by enough rounding for a relative 1e-4 in Z.
-            assert!((s.pdf - pdf).abs() <= 1e-3 * pdf.max(1.0), "{bsdf:?}: {s:?} {pdf}");
+            assert!(
+                (s.pdf - pdf).abs() <= 1e-3 * pdf.max(1.0),
+                "{bsdf:?}: {s:?} {pdf}"
+            );
             assert!((s.f - f).abs().max_element() <= 1e-3 * f.max_element().max(1.0));
             let back = bsdf.eval(s.wi, w);
             assert!(
@@ -223,17 +236,30 @@ fn sampled_albedo_matches_quadrature_of_eval() {
 fn car_paint_conserves_energy_with_measured_lobes() {
     let white = paint(
         Vec3::new(0.61, 0.63, 0.55),
-        [(0.00031, 0.049, 1.0), (0.013, 0.45, 0.15), (0.049, 0.17, 0.015)],
+        [
+            (0.00031, 0.049, 1.0),
+            (0.013, 0.45, 0.15),
+            (0.049, 0.17, 0.015),
+        ],
         0.0,
         0.0,
     );
     let white_base = paint(
         Vec3::ONE,
-        [(0.0120, 0.15, 0.32), (0.0180, 0.087, 0.11), (0.0077, 0.9, 0.013)],
+        [
+            (0.0120, 0.15, 0.32),
+            (0.0180, 0.087, 0.11),
+            (0.0077, 0.9, 0.013),
+        ],
         0.0,
         0.0,
     );
-    let full = paint(Vec3::ONE, [(1.0, 1.0, 0.5), (1.0, 1.0, 0.2), (1.0, 1.0, 0.05)], 0.0, 0.0);
+    let full = paint(
+        Vec3::ONE,
+        [(1.0, 1.0, 0.5), (1.0, 1.0, 0.2), (1.0, 1.0, 0.05)],
+        0.0,
+        0.0,
+    );
     let (over, _) = sampled_albedo(&full, wo(0.0), 199);
     assert!(over.x > 1.5, "three full lobes: {over}");
     let cases = [ford_f8(), white, white_base];
@@ -259,9 +285,18 @@ fn fitted_conductor_fresnel_known_values() {
         let (eta, k) = (approx_eta(Vec3::splat(r)), approx_k(Vec3::splat(r)));
         let normal = fr_general(1.0, eta, k).x;
         let expected = ((eta.x - 1.0).powi(2) + k.x * k.x) / ((eta.x + 1.0).powi(2) + k.x * k.x);
-        assert!((normal - expected).abs() < 1e-5, "R {r}: {normal} vs {expected}");
-        assert!((fr_general(1.0, eta, Vec3::ZERO).x - r).abs() < 1e-5, "R {r}");
-        assert!((fr_general(0.0, eta, k).x - 1.0).abs() < 1e-5, "R {r} grazing");
+        assert!(
+            (normal - expected).abs() < 1e-5,
+            "R {r}: {normal} vs {expected}"
+        );
+        assert!(
+            (fr_general(1.0, eta, Vec3::ZERO).x - r).abs() < 1e-5,
+            "R {r}"
+        );
+        assert!(
+            (fr_general(0.0, eta, k).x - 1.0).abs() < 1e-5,
+            "R {r} grazing"
+        );
     }
     for cos in [0.05f32, 0.3, 0.7, 1.0] {
         let f = fr_general(cos, Vec3::splat(1.5), Vec3::ZERO).x;
@@ -293,7 +328,12 @@ fn outputs_are_finite() {
     cases.extend([
         shiny(1.0, 1.0, 0.0),
         velvet([100.0, -100.0, 100.0], 1.0),
-        paint(Vec3::ONE, [(1.0, 1.0, 0.0), (1.0, 0.0, 1e-6), (1.0, 2.0, 1.0)], 1.0, 1.0),
+        paint(
+            Vec3::ONE,
+            [(1.0, 1.0, 0.0), (1.0, 0.0, 1e-6), (1.0, 2.0, 1.0)],
+            1.0,
+            1.0,
+        ),
     ]);
     for bsdf in &cases {
         for &w in &dirs {
@@ -361,6 +401,10 @@ fn known_values_at_normal_incidence() {
     let mirror = metal.sample(w, Vec2::ZERO, 0.0).unwrap();
     assert!(mirror.delta);
     // A delta lobe's f |cos| is the fraction it reflects; pdf the probability of picking it.
-    close(mirror.f * mirror.wi.z, fit(m.mirror, w.z), "shinymetal mirror");
+    close(
+        mirror.f * mirror.wi.z,
+        fit(m.mirror, w.z),
+        "shinymetal mirror",
+    );
     assert_eq!(mirror.pdf, 0.5);
 }

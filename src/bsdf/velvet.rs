@@ -39,9 +39,11 @@ impl Velvet {
         }
         let x = -wo.dot(wi);
         let [a1, a2, a3] = self.legendre;
-        let phase =
-            (1.0 + a1 * x + a2 * 0.5 * (3.0 * x * x - 1.0) + a3 * 0.5 * (5.0 * x * x * x - 3.0 * x))
-                / (4.0 * PI);
+        let phase = (1.0
+            + a1 * x
+            + a2 * 0.5 * (3.0 * x * x - 1.0)
+            + a3 * 0.5 * (5.0 * x * x * x - 3.0 * x))
+            / (4.0 * PI);
         let p = phase * self.thickness / (wo.z * wi.z);
         self.reflectance * p.clamp(0.0, 1.0)
     }

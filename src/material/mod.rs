@@ -12,8 +12,9 @@ use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::{
-    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ShinyMetal, Velvet, ConductorFresnel, DiffuseTranslucent, Plastic, RoughConductor,
-    RoughDielectric, RoughPlastic, SmoothConductor, ThinDielectric,
+    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic,
+    RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal, SmoothConductor, ThinDielectric,
+    Velvet,
 };
 use crate::texture::ShadingPoint;
 use bump::BumpMap;

@@ -10,7 +10,8 @@ use super::{car_paint, nk, paths};
 use crate::bsdf::coated_glossy::coating_f0;
 use crate::material::bump::DEFAULT_SAMPLE_DISTANCE;
 use crate::scene::desc::{
-    CarPaintLobeDesc, ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution, Roughness, SceneError,
+    CarPaintLobeDesc, ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution,
+    Roughness, SceneError,
 };
 use crate::scene::io::image;
 use crate::texture::{Mapping2D, TextureNode};
