@@ -5,6 +5,7 @@ mod common;
 
 use std::f32::consts::PI;
 
+use foton::bsdf::oren_nayar::oren_nayar_ab;
 use foton::bsdf::{Bsdf, DiffuseTranslucent};
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -21,6 +22,8 @@ fn translucent(reflectance: Vec3, transmittance: Vec3) -> Bsdf {
     Bsdf::DiffuseTranslucent(DiffuseTranslucent {
         reflectance,
         transmittance,
+        a: 1.0,
+        b: 0.0,
     })
 }
 
@@ -68,11 +71,24 @@ fn albedo_is_r_plus_t() {
     }
 }
 
-/// Sampled values agree with eval and pdf; f is reciprocal.
+/// The cases and one with Oren-Nayar lobes (LuxRender's `sigma`, here 30 degrees).
+fn cases_with_rough_lobes() -> Vec<Bsdf> {
+    let (a, b) = oren_nayar_ab(30.0);
+    let mut all = cases().to_vec();
+    all.push(Bsdf::DiffuseTranslucent(DiffuseTranslucent {
+        reflectance: Vec3::new(0.3, 0.5, 0.1),
+        transmittance: Vec3::new(0.6, 0.2, 0.9),
+        a,
+        b,
+    }));
+    all
+}
+
+/// Sampled values agree with eval and pdf; f is reciprocal (with Oren-Nayar lobes too).
 #[test]
 fn sample_matches_eval_pdf_and_is_reciprocal() {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(2);
-    for bsdf in cases() {
+    for bsdf in cases_with_rough_lobes() {
         for _ in 0..20_000 {
             let w = wo(uniform(&mut rng) * PI);
             let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
@@ -101,7 +117,7 @@ fn sampling_histogram_matches_pdf_over_the_sphere() {
         nphi: 16,
         sub: 16,
     };
-    for bsdf in cases() {
+    for bsdf in cases_with_rough_lobes() {
         let w = wo(0.8);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
         let sample = || {

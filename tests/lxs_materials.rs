@@ -447,3 +447,27 @@ fn carpaint_presets_and_parameters() {
     );
     assert_ne!(ford[2].roughness, 0.05);
 }
+
+/// `mattetranslucent`'s `sigma` makes both lobes Oren-Nayar (LuxRender's `OrenNayar` and
+/// `BRDFToBTDF(OrenNayar)`): lit along the normal from either side and seen within 7 degrees
+/// of it, the mirrored light direction is the normal, so B's term vanishes and both the
+/// reflected and the transmitted radiance are A times the Lambertian lobes'
+/// (A = 1 - s^2 / (2 (s^2 + 0.33)), s = 30 degrees in radians).
+#[test]
+fn matte_translucent_sigma_makes_oren_nayar_lobes() {
+    let lambertian =
+        r#"Material "mattetranslucent" "color Kr" [0.3 0.3 0.3] "color Kt" [0.5 0.5 0.5]"#;
+    let rough = format!("{lambertian} \"float sigma\" [30]");
+    let s2 = 30f32.to_radians().powi(2);
+    let a = 1.0 - s2 / (2.0 * (s2 + 0.33));
+    for light_z in [1.0, -1.0] {
+        let smooth = quad_scene_lit_from("translucent-smooth", light_z, lambertian);
+        let oren_nayar = quad_scene_lit_from("translucent-rough", light_z, &rough);
+        assert!(oren_nayar.warnings.is_empty(), "{:?}", oren_nayar.warnings);
+        let ratio = mean_radiance(oren_nayar, 1) / mean_radiance(smooth, 1);
+        assert!(
+            (ratio - a).abs() < 2e-3,
+            "light at z = {light_z}: Oren-Nayar / Lambert {ratio}, A = {a}"
+        );
+    }
+}

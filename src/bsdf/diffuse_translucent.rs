@@ -4,6 +4,13 @@
 //!
 //!   f(wo, wi) = R / pi  when wo and wi are on the same side,  T / pi  otherwise.
 //!
+//! With `sigma` > 0 LuxRender makes both lobes Oren-Nayar (`OrenNayar(R, sigma)` and
+//! `BRDFToBTDF(OrenNayar(T, sigma))`, which evaluates the reflection lobe at wi mirrored
+//! through the surface): here each lobe is [`OrenNayar`] of its colour at wo and wi brought to
+//! the same side, (A, B) = (1, 0) the Lambertian case. The A term keeps the albedo formula
+//! below only for the Lambertian; the lobes stay symmetric in wo and wi, so f stays
+//! reciprocal.
+//!
 //! Each lobe integrates, against |cos theta_i|, to its colour, so the albedo is R + T: energy is
 //! conserved when R + T <= 1 (what LuxRender's `energyconserving` ensures, see the loader).
 //! The lobes are symmetric in wo and wi, so f is reciprocal. Sampling picks a lobe with
@@ -15,12 +22,16 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
 use super::BsdfSample;
+use super::oren_nayar::OrenNayar;
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 
 #[derive(Clone, Copy, Debug)]
 pub struct DiffuseTranslucent {
     pub reflectance: Vec3,
     pub transmittance: Vec3,
+    /// Oren-Nayar's A and B ([`super::oren_nayar::oren_nayar_ab`]); (1, 0) is Lambertian.
+    pub a: f32,
+    pub b: f32,
 }
 
 impl DiffuseTranslucent {
@@ -35,13 +46,23 @@ impl DiffuseTranslucent {
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let side = wo.z * wi.z;
-        if side > 0.0 {
-            self.reflectance * FRAC_1_PI
+        let colour = if side > 0.0 {
+            self.reflectance
         } else if side < 0.0 {
-            self.transmittance * FRAC_1_PI
+            self.transmittance
         } else {
-            Vec3::ZERO
+            return Vec3::ZERO;
+        };
+        if self.b == 0.0 {
+            return colour * (self.a * FRAC_1_PI);
         }
+        let above = |w: Vec3| Vec3::new(w.x, w.y, w.z.abs());
+        OrenNayar {
+            reflectance: colour,
+            a: self.a,
+            b: self.b,
+        }
+        .eval(above(wo), above(wi))
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {

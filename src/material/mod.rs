@@ -64,10 +64,12 @@ pub enum Material {
         alpha_x: f32,
         alpha_y: f32,
     },
-    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`.
+    /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`, both
+    /// Oren-Nayar of the slope deviation in degrees (a float input).
     DiffuseTranslucent {
         reflectance: Color,
         transmittance: Color,
+        sigma_degrees: Color,
     },
     /// A conductor of complex index `eta` + i `k` with the exact Fresnel term, scaled by
     /// `reflectance`: a mirror for `distribution` None, else rough (Mitsuba's separable masking).
@@ -184,15 +186,16 @@ impl MaterialTable {
                     ..
                 } => &[reflectance, transmittance],
                 Material::Conductor { f0, .. } => &[f0],
+                Material::DiffuseTranslucent {
+                    reflectance,
+                    transmittance,
+                    sigma_degrees,
+                } => &[reflectance, transmittance, sigma_degrees],
                 Material::ComplexConductor { reflectance, .. } => &[reflectance],
                 Material::RoughDielectric {
                     reflectance,
                     transmittance,
                     ..
-                }
-                | Material::DiffuseTranslucent {
-                    reflectance,
-                    transmittance,
                 }
                 | Material::ThinDielectric {
                     reflectance,
@@ -393,10 +396,17 @@ impl Inputs<'_> {
             Material::DiffuseTranslucent {
                 reflectance,
                 transmittance,
-            } => Bsdf::DiffuseTranslucent(DiffuseTranslucent {
-                reflectance: color(reflectance),
-                transmittance: color(transmittance),
-            }),
+                sigma_degrees,
+            } => {
+                // `materials/mattetranslucent.cpp` clamps sigma to [0, 90] degrees.
+                let (a, b) = oren_nayar_ab(self.float(sigma_degrees, sp).clamp(0.0, 90.0));
+                Bsdf::DiffuseTranslucent(DiffuseTranslucent {
+                    reflectance: color(reflectance),
+                    transmittance: color(transmittance),
+                    a,
+                    b,
+                })
+            }
             Material::ComplexConductor {
                 reflectance,
                 eta,

@@ -395,9 +395,11 @@ fn material(desc: &MaterialDesc) -> Material {
         MaterialDesc::DiffuseTranslucent {
             reflectance,
             transmittance,
+            sigma_degrees,
         } => Material::DiffuseTranslucent {
             reflectance: color(reflectance),
             transmittance: color(transmittance),
+            sigma_degrees: color(sigma_degrees),
         },
         MaterialDesc::Conductor {
             reflectance,

@@ -296,10 +296,12 @@ pub enum MaterialDesc {
         alpha_v: f32,
     },
     /// Diffuse reflection of `reflectance` and diffuse transmission of `transmittance`
-    /// (LuxRender's `mattetranslucent`).
+    /// (LuxRender's `mattetranslucent`), both Oren-Nayar of slope deviation `sigma_degrees`
+    /// (0: Lambertian).
     DiffuseTranslucent {
         reflectance: ColorParam,
         transmittance: ColorParam,
+        sigma_degrees: FloatParam,
     },
     /// A conductor of complex index `eta` + i `k` (relative to the outside) with the exact
     /// Fresnel term, its lobe scaled by `reflectance`: smooth (a mirror) for `roughness` None.

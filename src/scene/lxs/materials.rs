@@ -339,8 +339,8 @@ impl Parser {
 
     /// `mattetranslucent` (LuxRender 1.x `materials/mattetranslucent.cpp`): Lambertian
     /// reflection of `Kr` and transmission of `Kt` (both 1, clamped to [0, 1]); with
-    /// `energyconserving` (false) LuxRender scales T by 1 - R so that R + T <= 1. `sigma`
-    /// (Oren-Nayar for both lobes in LuxRender) is read as 0, with a warning.
+    /// `energyconserving` (false) LuxRender scales T by 1 - R so that R + T <= 1. `sigma` (0,
+    /// in degrees, a float texture too) makes both lobes Oren-Nayar, as in LuxRender.
     fn matte_translucent(
         &mut self,
         line: usize,
@@ -360,15 +360,11 @@ impl Parser {
                 ),
             }
         }
-        if self.constant_float(params, "sigma", 0.0, line)? > 0.0 {
-            self.warn(
-                line,
-                "mattetranslucent: \"sigma\" (Oren-Nayar lobes) unsupported: Lambertian",
-            );
-        }
+        let sigma_degrees = self.color_param(params, "sigma", Vec3::ZERO, line)?;
         Ok(MaterialDesc::DiffuseTranslucent {
             reflectance,
             transmittance,
+            sigma_degrees,
         })
     }
 
