@@ -283,6 +283,7 @@ pub enum SamplerArg {
     Independent,
     Stratified,
     MultiJittered,
+    Sobol,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -334,6 +335,7 @@ impl SceneArgs {
                 SamplerArg::Independent => SamplerKind::Independent,
                 SamplerArg::Stratified => SamplerKind::Stratified,
                 SamplerArg::MultiJittered => SamplerKind::MultiJittered,
+                SamplerArg::Sobol => SamplerKind::Sobol,
             },
             integrator: self.integrator.map(|integrator| match integrator {
                 IntegratorArg::Path => IntegratorKind::PathTracer,
