@@ -173,7 +173,7 @@ pub struct SceneArgs {
     /// The integrator (default: the scene's, else path).
     #[arg(long, value_enum)]
     pub integrator: Option<IntegratorArg>,
-    #[arg(long, value_enum, default_value_t = SamplerArg::MultiJittered)]
+    #[arg(long, value_enum, default_value_t = SamplerArg::Sobol)]
     pub sampler: SamplerArg,
     /// Use this camera instead of the scene's.
     #[arg(long, value_parser = camera_parser())]

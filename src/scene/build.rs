@@ -66,7 +66,7 @@ impl Default for RenderOptions {
             max_depth: None,
             resolution: None,
             seed: 0,
-            sampler: SamplerKind::MultiJittered,
+            sampler: SamplerKind::Sobol,
             integrator: None,
             time_limit: None,
             camera: None,
