@@ -452,3 +452,49 @@ impl Inputs<'_> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{TextureGraph, TextureNode};
+
+    #[test]
+    fn constant_materials_keep_their_bsdf_and_textured_ones_read_their_texture() {
+        let textures = TextureTable {
+            textures: Vec::new(),
+            graph: TextureGraph {
+                nodes: vec![TextureNode::Constant(Vec3::splat(0.75))],
+            },
+        };
+        let table = MaterialTable::new(vec![
+            Material::Lambertian {
+                reflectance: Color::Constant(Vec3::splat(0.25)),
+            },
+            Material::Lambertian {
+                reflectance: Color::Texture(0),
+            },
+            Material::Mix {
+                first: 0,
+                second: 1,
+                amount: Color::Constant(Vec3::splat(0.5)),
+            },
+            Material::Null,
+        ]);
+        let albedo = |id: u32, choice: f32| {
+            let mut point = ShadingPoint {
+                p: Vec3::ONE,
+                uv: Vec2::new(0.3, 0.6),
+                n: Vec3::Z,
+                object: id,
+            };
+            (table.bsdf_at(id, &mut point, Some(&textures), choice, |_, _| {}))
+                .map(|bsdf| bsdf.albedo().x)
+        };
+        assert_eq!(albedo(0, 0.5), Some(0.25));
+        // A texture looked up at the point, not the grey a table built without textures gives.
+        assert_eq!(albedo(1, 0.5), Some(0.75));
+        assert_eq!(albedo(2, 0.25), Some(0.75));
+        assert_eq!(albedo(2, 0.75), Some(0.25));
+        assert_eq!(albedo(3, 0.5), None);
+    }
+}
