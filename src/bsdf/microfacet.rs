@@ -7,7 +7,7 @@
 //! Normals" (JCGT 7(4)); pbrt-v4 §9.6. All directions are in the local frame
 //! (z = macro normal).
 
-use crate::sampling::warp::concentric_disk_polynomial;
+use crate::sampling::warp::concentric_disk;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -112,7 +112,7 @@ impl TrowbridgeReitz {
         let t2 = wh.cross(t1);
         // A uniform point on the projected disk, squeezed vertically on the
         // half that the hemisphere's cap hides partly.
-        let mut p = concentric_disk_polynomial(u);
+        let mut p = concentric_disk(u);
         let h = (1.0 - p.x * p.x).max(0.0).sqrt();
         let s = 0.5 * (1.0 + wh.z);
         p.y = (1.0 - s) * h + s * p.y;

@@ -15,38 +15,6 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     // and sine are the sine and cosine of pi/4 (x / y): either way a cosine and a sine on
     // [-pi/4, pi/4], from polynomials rather than a library call.
     if o.x.abs() > o.y.abs() {
-        let (cos, sin) = cos_sin_of_quarter_pi(o.y / o.x);
-        o.x * Vec2::new(cos, sin)
-    } else {
-        let (cos, sin) = cos_sin_of_quarter_pi(o.x / o.y);
-        o.y * Vec2::new(sin, cos)
-    }
-}
-
-/// cos and sin of phi = pi/4 t for t in [-1, 1], by their Taylor series through phi^10 and
-/// phi^9: the first terms left out, phi^12 / 12! and phi^11 / 11!, are below 2e-9 at |phi| =
-/// pi/4, under the f32 rounding of the result (3e-8 to 6e-8 there).
-fn cos_sin_of_quarter_pi(t: f32) -> (f32, f32) {
-    let phi = FRAC_PI_4 * t;
-    let p2 = phi * phi;
-    let sin = phi
-        * (1.0 + p2 * (-1.0 / 6.0 + p2 * (1.0 / 120.0 + p2 * (-1.0 / 5040.0 + p2 / 362_880.0))));
-    let cos = 1.0
-        + p2 * (-0.5
-            + p2 * (1.0 / 24.0 + p2 * (-1.0 / 720.0 + p2 * (1.0 / 40_320.0 - p2 / 3_628_800.0))));
-    (cos, sin)
-}
-
-/// [`concentric_disk`] with the angle's sine and cosine from polynomials instead of libm, for
-/// the BSDFs' sampling at every path vertex: the same map to within about 1e-7. The angle
-/// pi/4 * (b / a), |b / a| <= 1, lies in [-pi/4, pi/4], where [`sin_cos_eighth_turn`] holds; the
-/// map's other half, pi/2 - pi/4 * (a / b), takes cos(pi/2 - x) = sin x, sin(pi/2 - x) = cos x.
-pub fn concentric_disk_polynomial(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
-    if o.x.abs() > o.y.abs() {
         let (sin, cos) = sin_cos_eighth_turn(FRAC_PI_4 * (o.y / o.x));
         o.x * Vec2::new(cos, sin)
     } else {
@@ -68,7 +36,7 @@ fn sin_cos_eighth_turn(x: f32) -> (f32, f32) {
 /// Malley's method: a uniform disk point lifted to the hemisphere (z up) has density
 /// cos(theta) / pi in solid angle.
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = concentric_disk_polynomial(u);
+    let d = concentric_disk(u);
     Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
 }
 
@@ -144,7 +112,7 @@ mod tests {
     }
 
     #[test]
-    fn polynomial_sin_cos_and_disk_match_libm() {
+    fn polynomial_sin_cos_match_libm() {
         // The polynomials' error is about 1 ulp on [-pi/4, pi/4] (6e-8 near 1); 2.5e-7 allows 4.
         for i in 0..=10_000 {
             let x = FRAC_PI_4 * (i as f32 / 5_000.0 - 1.0);
@@ -159,12 +127,6 @@ mod tests {
                 "cos {x}: {cos} vs {}",
                 x.cos()
             );
-        }
-        let mut rng = PathRng::new(7, 0, 0);
-        for _ in 0..N {
-            let u = rng.next_2d();
-            let (fast, exact) = (concentric_disk_polynomial(u), concentric_disk(u));
-            assert!((fast - exact).length() <= 5e-7, "{u}: {fast} vs {exact}");
         }
     }
 
