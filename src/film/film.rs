@@ -59,12 +59,20 @@ impl SplatFilter {
     fn footprint(&self, axis: usize, position: f32, size: u32) -> AxisFootprint {
         let (first, count) = footprint_span(position, self.radius[axis], size);
         let mut weights = [0.0; MAX_FOOTPRINT];
-        for (group, values) in weights.chunks_exact_mut(4).enumerate().take(count.div_ceil(4)) {
+        for (group, values) in weights
+            .chunks_exact_mut(4)
+            .enumerate()
+            .take(count.div_ceil(4))
+        {
             // Pixel indices fit in u32, whose conversion to f32 is one instruction.
             let centres = Vec4::from_array(std::array::from_fn(|lane| {
                 (first + 4 * group + lane) as u32 as f32 + 0.5
             }));
-            values.copy_from_slice(&self.values(axis, Vec4::splat(position) - centres).to_array());
+            values.copy_from_slice(
+                &self
+                    .values(axis, Vec4::splat(position) - centres)
+                    .to_array(),
+            );
         }
         AxisFootprint {
             first,
@@ -587,6 +595,51 @@ mod tests {
         assert_eq!(fast.sums, splatted.sums);
         assert_eq!(fast.weights, splatted.weights);
         assert_eq!(fast.counts, splatted.counts);
+    }
+
+    /// The four-lane table reads against the interpolation done one value at a time (the
+    /// splat's arithmetic before it took four lanes): the same bits for offsets inside, on and
+    /// beyond the radius, negative, NaN, and for filters with negative lobes and radii that are
+    /// not powers of two.
+    #[test]
+    fn four_lane_filter_values_match_one_at_a_time() {
+        use crate::film::FilterKind;
+        let scalar = |filter: &SplatFilter, axis: usize, offset: f32| {
+            let x = offset.abs() / filter.radius[axis] * SPLAT_TABLE as f32;
+            if x.is_nan() || x >= SPLAT_TABLE as f32 {
+                return 0.0;
+            }
+            let i = x as usize;
+            let table = &filter.tables[axis];
+            table[i] + (table[i + 1] - table[i]) * (x - i as f32)
+        };
+        let mut rng = crate::sampling::PathRng::new(7, 8, 9);
+        let filters = [
+            (FilterKind::Gaussian { alpha: 2.0 }, Vec2::new(2.0, 1.5)),
+            (FilterKind::BlackmanHarris, Vec2::new(1.5, 0.7)),
+            (
+                FilterKind::Mitchell { b: 0.75, c: 0.125 },
+                Vec2::new(2.0, 3.3),
+            ),
+            (FilterKind::Sinc { tau: 3.0 }, Vec2::new(4.0, 4.0)),
+        ];
+        for (kind, radius) in filters {
+            let filter = SplatFilter::new(&PixelFilter::new(kind, radius));
+            for axis in 0..2 {
+                let r = radius[axis];
+                let mut offsets = vec![0.0, -0.0, r, -r, r.next_up(), f32::NAN, f32::INFINITY];
+                offsets.extend((0..4_000).map(|_| (rng.next_f32() * 2.0 - 1.0) * 1.2 * r));
+                for lanes in offsets.chunks(4) {
+                    let mut group = [0.0; 4];
+                    group[..lanes.len()].copy_from_slice(lanes);
+                    let values = filter.values(axis, Vec4::from_array(group)).to_array();
+                    for (&offset, value) in group.iter().zip(values) {
+                        let expected = scalar(&filter, axis, offset);
+                        assert_eq!(value.to_bits(), expected.to_bits(), "{kind:?} {offset}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
