@@ -82,9 +82,9 @@ impl SplatFilter {
     }
 
     /// The filter along `axis` at four `offsets` in pixels (symmetric; 0 beyond the radius),
-    /// interpolated in the table: x = |offset| / r * SPLAT_TABLE, f = table[i] + (table[i + 1]
-    /// - table[i]) (x - i) with i = floor(x). Four lanes at once, each lane's arithmetic that
-    /// of one value alone (SSE2 has no fused multiply-add: the same roundings).
+    /// interpolated in the table: with x = |offset| / r * SPLAT_TABLE and i = floor(x),
+    /// f = table[i] + (table[i + 1] - table[i]) (x - i). Four lanes at once, each lane's
+    /// arithmetic that of one value alone (SSE2 has no fused multiply-add: the same roundings).
     fn values(&self, axis: usize, offsets: Vec4) -> Vec4 {
         let x = offsets.abs() / self.radius[axis] * SPLAT_TABLE as f32;
         // False for NaN as well.
