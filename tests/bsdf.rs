@@ -304,6 +304,11 @@ fn sample_matches_eval_and_pdf() {
             assert!(!s.delta);
             let pdf = bsdf.pdf(wo, s.wi);
             let f = bsdf.eval(wo, s.wi);
+            assert_eq!(
+                bsdf.eval_and_pdf(wo, s.wi),
+                (f, pdf),
+                "eval_and_pdf {bsdf:?}"
+            );
             assert_close(
                 s.pdf,
                 pdf,

@@ -115,6 +115,7 @@ impl Blas {
             ray,
             t_min,
             t_max,
+            !ANY,
             #[inline(always)]
             |payload, t_max| {
                 let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;

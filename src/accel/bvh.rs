@@ -143,16 +143,18 @@ impl Ray {
         if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
             return None;
         }
-        const TINY: f32 = f32::MIN_POSITIVE;
-        let safe = |x: f32| if x.abs() < TINY { TINY.copysign(x) } else { x };
-        let inv_dir = Vec3A::new(safe(dir.x), safe(dir.y), safe(dir.z)).recip();
+        // All three components at once (a select, not a branch per axis): the sign is kept,
+        // so -0 becomes -MIN_POSITIVE and its slab is entered from the upper bound.
+        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
+        let inv_dir = Vec3A::select(dir.abs().cmplt(tiny), tiny.copysign(dir), dir).recip();
+        let negative = inv_dir.is_negative_bitmask() as usize;
         Some(Ray {
             origin,
             dir,
             origin4: [0, 1, 2].map(|axis| Vec4::splat(origin[axis])),
             dir4: [0, 1, 2].map(|axis| Vec4::splat(dir[axis])),
             inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
-            near_side: [0, 1, 2].map(|axis| (inv_dir[axis] < 0.0) as usize),
+            near_side: [0, 1, 2].map(|axis| negative >> axis & 1),
         })
     }
 }
@@ -205,8 +207,11 @@ impl Bvh {
         self.nodes.len() * std::mem::size_of::<Node>()
     }
 
-    /// Visits every leaf whose box the ray enters with `t` in `(t_min, t_max)`, nearest box
-    /// first, and calls `leaf(payload, &mut t_max)` on it. The closure may shrink `t_max`
+    /// Visits every leaf whose box the ray enters with `t` in `(t_min, t_max)` and calls
+    /// `leaf(payload, &mut t_max)` on it: nearest box first when `nearest_first` (a closest
+    /// hit then shrinks `t_max` early), else in the node's lane order, which spares sorting the
+    /// entered children (an any-hit query, which stops at the first hit, gains nothing from
+    /// the order on average). The closure may shrink `t_max`
     /// (closest hit): subtrees entered beyond it are then skipped. It returns `true` to stop
     /// (any hit), and so does `traverse`. `prefetch_leaf(payload)` is called as soon as a
     /// leaf's box is entered, before the leaf is visited (if it is), to start loading its
@@ -217,6 +222,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
+        nearest_first: bool,
         mut leaf: F,
         prefetch_leaf: P,
     ) -> bool
@@ -240,8 +246,8 @@ impl Bvh {
                 let node = &self.nodes[current as usize];
                 let (near, mut mask) = node.hit(ray, t_min, *t_max);
                 if mask != 0 {
-                    // The entered children sorted by entry distance, farthest first; all but the
-                    // nearest go on the stack so that the nearest is visited next.
+                    // The entered children (sorted by entry distance, farthest first, when
+                    // `nearest_first`); all but the last go on the stack, the last is visited next.
                     let mut entered = [(0u32, 0f32); 4];
                     let mut count = 0;
                     while mask != 0 {
@@ -259,7 +265,7 @@ impl Bvh {
                             prefetch_leaf(item.0 & !LEAF);
                         }
                         let mut i = count;
-                        while i > 0 && entered[i - 1].1 < item.1 {
+                        while nearest_first && i > 0 && entered[i - 1].1 < item.1 {
                             entered[i] = entered[i - 1];
                             i -= 1;
                         }

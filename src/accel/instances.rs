@@ -82,7 +82,9 @@ impl Instances {
         }
     }
 
-    /// As [`Blas::find`], over every instance the ray reaches.
+    /// As [`Blas::find`], over every instance the ray reaches. Only the test for "no
+    /// instances" is inlined into the callers: the world tree's traversal, inlined beside it,
+    /// keeps its registers.
     #[inline(always)]
     pub fn find<const ANY: bool>(
         &self,
@@ -91,13 +93,22 @@ impl Instances {
         t_max: &mut f32,
         found: &mut Option<Hit>,
     ) -> bool {
-        if self.placed.is_empty() {
-            return false;
-        }
+        !self.placed.is_empty() && self.find_placed::<ANY>(ray, t_min, t_max, found)
+    }
+
+    #[inline(never)]
+    fn find_placed<const ANY: bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        found: &mut Option<Hit>,
+    ) -> bool {
         self.bvh.traverse(
             ray,
             t_min,
             t_max,
+            !ANY,
             #[inline(always)]
             |payload, t_max| {
                 let start = (payload >> COUNT_BITS) as usize;

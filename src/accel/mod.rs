@@ -182,10 +182,11 @@ impl Accel {
     /// Planes are tested first: a plane hit shrinks `t_max` before traversal, so a ground plane
     /// culls everything beneath it. A tree's hit replaces it only if strictly nearer.
     pub fn closest_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
-        let ray = Ray::new(origin.into(), dir.into())?;
+        // The range first: it is the cheaper test, and a batch's empty slots fail it.
         if t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
         }
+        let ray = Ray::new(origin.into(), dir.into())?;
         let mut t_max = t_max;
         let mut closest = None;
         for plane in &self.planes {
@@ -208,12 +209,12 @@ impl Accel {
 
     /// Whether anything is hit with t in (t_min, t_max): stops at the first hit found.
     pub fn any_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
-        let Some(ray) = Ray::new(origin.into(), dir.into()) else {
-            return false;
-        };
         if t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return false;
         }
+        let Some(ray) = Ray::new(origin.into(), dir.into()) else {
+            return false;
+        };
         if (self.planes.iter()).any(|p| p.intersect(ray.origin, ray.dir, t_min, t_max).is_some()) {
             return true;
         }

@@ -163,9 +163,32 @@ impl Bsdf {
     /// f(wo, wi) for non-delta lobes (0 for delta ones); both in the local
     /// frame, pointing away from the surface.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let (Some(wo), Some(wi)) = (direction(wo), direction(wi)) else {
-            return Vec3::ZERO;
-        };
+        match (direction(wo), direction(wi)) {
+            (Some(wo), Some(wi)) => self.eval_unit(wo, wi),
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// The density (per solid angle) with which [`Bsdf::sample`] returns
+    /// `wi`; 0 for delta lobes.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match (direction(wo), direction(wi)) {
+            (Some(wo), Some(wi)) => self.pdf_unit(wo, wi),
+            _ => 0.0,
+        }
+    }
+
+    /// [`Bsdf::eval`] and [`Bsdf::pdf`] together, as next-event estimation needs both: the
+    /// directions are checked and normalised once.
+    pub fn eval_and_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        match (direction(wo), direction(wi)) {
+            (Some(wo), Some(wi)) => (self.eval_unit(wo, wi), self.pdf_unit(wo, wi)),
+            _ => (Vec3::ZERO, 0.0),
+        }
+    }
+
+    /// `eval` for unit directions.
+    fn eval_unit(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let f = match *self {
             Bsdf::Lambertian { reflectance } => Lambertian { reflectance }.eval(wo, wi),
             Bsdf::Conductor {
@@ -191,12 +214,8 @@ impl Bsdf {
         if f.is_finite() { f } else { Vec3::ZERO }
     }
 
-    /// The density (per solid angle) with which [`Bsdf::sample`] returns
-    /// `wi`; 0 for delta lobes.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (Some(wo), Some(wi)) = (direction(wo), direction(wi)) else {
-            return 0.0;
-        };
+    /// `pdf` for unit directions.
+    fn pdf_unit(&self, wo: Vec3, wi: Vec3) -> f32 {
         let pdf = match *self {
             Bsdf::Lambertian { reflectance } => Lambertian { reflectance }.pdf(wo, wi),
             Bsdf::Conductor {

@@ -173,7 +173,7 @@ pub struct SceneArgs {
     /// The integrator (default: the scene's, else path).
     #[arg(long, value_enum)]
     pub integrator: Option<IntegratorArg>,
-    #[arg(long, value_enum, default_value_t = SamplerArg::MultiJittered)]
+    #[arg(long, value_enum, default_value_t = SamplerArg::Sobol)]
     pub sampler: SamplerArg,
     /// Use this camera instead of the scene's.
     #[arg(long, value_parser = camera_parser())]
@@ -283,6 +283,7 @@ pub enum SamplerArg {
     Independent,
     Stratified,
     MultiJittered,
+    Sobol,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -334,6 +335,7 @@ impl SceneArgs {
                 SamplerArg::Independent => SamplerKind::Independent,
                 SamplerArg::Stratified => SamplerKind::Stratified,
                 SamplerArg::MultiJittered => SamplerKind::MultiJittered,
+                SamplerArg::Sobol => SamplerKind::Sobol,
             },
             integrator: self.integrator.map(|integrator| match integrator {
                 IntegratorArg::Path => IntegratorKind::PathTracer,

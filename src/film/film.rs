@@ -1,7 +1,7 @@
 //! Per-pixel accumulation of radiance samples, by filter importance sampling or by splatting.
 
 use bevy_ecs::prelude::Resource;
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::PixelFilter;
@@ -27,8 +27,8 @@ pub enum Reconstruction {
 const MAX_FOOTPRINT: usize = 16;
 /// Entries of the tabulated filter over [0, r] on each axis, read with linear interpolation
 /// (Mitsuba 3 tabulates its filters the same way): a splat then costs table reads, not the
-/// filter's exponentials.
-const SPLAT_TABLE: usize = 256;
+/// filter's exponentials. 256, so that an entry's index is a `u8` (see `SplatFilter::value`).
+const SPLAT_TABLE: usize = u8::MAX as usize + 1;
 
 /// The filter's two axes, tabulated: f(d, 0) and f(0, d) for d in [0, r].
 #[derive(Clone, Debug)]
@@ -54,21 +54,64 @@ impl SplatFilter {
         }
     }
 
-    /// The filter along `axis` at `offset` pixels (symmetric; 0 beyond the radius).
-    fn value(&self, axis: usize, offset: f32) -> f32 {
-        let x = offset.abs() / self.radius[axis] * SPLAT_TABLE as f32;
-        if x.is_nan() || x >= SPLAT_TABLE as f32 {
-            return 0.0;
+    /// The pixels along `axis` whose centres lie within the radius of `position` (on a film
+    /// `size` pixels long), and the filter's value at each.
+    fn footprint(&self, axis: usize, position: f32, size: u32) -> AxisFootprint {
+        let (first, count) = footprint_span(position, self.radius[axis], size);
+        let mut weights = [0.0; MAX_FOOTPRINT];
+        for (group, values) in weights
+            .chunks_exact_mut(4)
+            .enumerate()
+            .take(count.div_ceil(4))
+        {
+            // Pixel indices fit in u32, whose conversion to f32 is one instruction.
+            let centres = Vec4::from_array(std::array::from_fn(|lane| {
+                (first + 4 * group + lane) as u32 as f32 + 0.5
+            }));
+            values.copy_from_slice(
+                &self
+                    .values(axis, Vec4::splat(position) - centres)
+                    .to_array(),
+            );
         }
-        // Casts, not fract(): without SSE4.1 rounding is a library call. Through u32: x is in
-        // [0, SPLAT_TABLE), and the casts between f32 and 64-bit unsigned integers take a dozen
-        // instructions more (the splat calls this 8 times for a radius of 2).
-        let i = x as u32;
-        let t = x - i as f32;
-        let i = (i as usize).min(SPLAT_TABLE - 1);
-        let table = &self.tables[axis];
-        table[i] + (table[i + 1] - table[i]) * t
+        AxisFootprint {
+            first,
+            count,
+            weights,
+        }
     }
+
+    /// The filter along `axis` at four `offsets` in pixels (symmetric; 0 beyond the radius),
+    /// interpolated in the table: with x = |offset| / r * SPLAT_TABLE and i = floor(x),
+    /// f = table[i] + (table[i + 1] - table[i]) (x - i). Four lanes at once, each lane's
+    /// arithmetic that of one value alone (SSE2 has no fused multiply-add: the same roundings).
+    fn values(&self, axis: usize, offsets: Vec4) -> Vec4 {
+        let x = offsets.abs() / self.radius[axis] * SPLAT_TABLE as f32;
+        // False for NaN as well.
+        let inside = x.cmplt(Vec4::splat(SPLAT_TABLE as f32));
+        // trunc(), not floor() or fract(): SIMD without SSE4.1 (floor is a library call), and
+        // the same for x >= 0.
+        let whole = x.trunc();
+        let t = x - whole;
+        // The index from the float's bits: inside, whole is an integer in [0, 256), and
+        // adding 2^23 puts it, exactly, in the mantissa's low bits (cheaper than a cast per
+        // lane); outside, the low byte is still a valid index (its lane is replaced by 0).
+        let index = (whole + Vec4::splat(8_388_608.0))
+            .to_array()
+            .map(|i| usize::from(i.to_bits() as u8));
+        let table = &self.tables[axis];
+        let low = Vec4::from_array(index.map(|i| table[i]));
+        let high = Vec4::from_array(index.map(|i| table[i + 1]));
+        Vec4::select(inside, low + (high - low) * t, Vec4::ZERO)
+    }
+}
+
+/// One axis of a splat's footprint: pixels `first..first + count` and the filter's value at
+/// each (in `weights[..count]`).
+struct AxisFootprint {
+    first: usize,
+    count: usize,
+    weights: [f32; MAX_FOOTPRINT],
 }
 
 /// Weighted radiance sums and weight sums per pixel, rows from the top.
@@ -406,27 +449,28 @@ impl FilmRows<'_> {
                 }
             }
             Some(filter) => {
-                // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius.
-                let radius = filter.radius;
-                let position = sample.position;
-                let ys = footprint_span(position.y, radius.y, height);
-                let first = ys.0.max(rows.start);
-                let end = (ys.0 + ys.1).min(rows.end);
+                // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius: the
+                // filter's values along each axis once per sample, then the footprint's rows.
+                let ys = filter.footprint(1, sample.position.y, height);
+                let first = ys.first.max(rows.start);
+                let end = (ys.first + ys.count).min(rows.end);
                 if first >= end {
                     return true;
                 }
-                let (xs, wx) = footprint(position.x, radius.x, width, |d| filter.value(0, d));
-                if xs.1 == 0 {
+                let xs = filter.footprint(0, sample.position.x, width);
+                if xs.count == 0 {
                     return true;
                 }
+                let wx = &xs.weights[..xs.count];
+                let wy = &ys.weights[first - ys.first..end - ys.first];
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
-                for y in first..end {
-                    let fy = filter.value(1, position.y - (y as u32 as f32 + 0.5));
-                    let row = (y - self.first_row) * w + xs.0;
-                    let sums = &mut self.sums[row..row + xs.1];
-                    let weights = &mut self.weights[row..row + xs.1];
-                    for ((sum, weight), &fx) in sums.iter_mut().zip(weights).zip(&wx) {
+                let start = (first - self.first_row) * w + xs.first;
+                for (row, &fy) in wy.iter().enumerate() {
+                    let pixels = start + row * w..start + row * w + wx.len();
+                    let sums = &mut self.sums[pixels.clone()];
+                    let weights = &mut self.weights[pixels];
+                    for ((sum, weight), &fx) in sums.iter_mut().zip(weights).zip(wx) {
                         let w = f64::from(fx * fy);
                         *sum += radiance * w;
                         *weight += w;
@@ -436,23 +480,6 @@ impl FilmRows<'_> {
         }
         true
     }
-}
-
-/// The pixels along one axis whose centres lie within `radius` of `position`, as (first,
-/// count), and the filter's value at each.
-fn footprint(
-    position: f32,
-    radius: f32,
-    size: u32,
-    value: impl Fn(f32) -> f32,
-) -> ((usize, usize), [f32; MAX_FOOTPRINT]) {
-    let (first, count) = footprint_span(position, radius, size);
-    let mut weights = [0.0; MAX_FOOTPRINT];
-    for (i, w) in weights.iter_mut().enumerate().take(count) {
-        // Pixel indices fit in u32, whose conversion to f32 is one instruction.
-        *w = value(position - ((first + i) as u32 as f32 + 0.5));
-    }
-    ((first, count), weights)
 }
 
 /// The pixels along one axis whose centres lie within `radius` of `position`, as (first, count).
@@ -568,6 +595,51 @@ mod tests {
         assert_eq!(fast.sums, splatted.sums);
         assert_eq!(fast.weights, splatted.weights);
         assert_eq!(fast.counts, splatted.counts);
+    }
+
+    /// The four-lane table reads against the interpolation done one value at a time (the
+    /// splat's arithmetic before it took four lanes): the same bits for offsets inside, on and
+    /// beyond the radius, negative, NaN, and for filters with negative lobes and radii that are
+    /// not powers of two.
+    #[test]
+    fn four_lane_filter_values_match_one_at_a_time() {
+        use crate::film::FilterKind;
+        let scalar = |filter: &SplatFilter, axis: usize, offset: f32| {
+            let x = offset.abs() / filter.radius[axis] * SPLAT_TABLE as f32;
+            if x.is_nan() || x >= SPLAT_TABLE as f32 {
+                return 0.0;
+            }
+            let i = x as usize;
+            let table = &filter.tables[axis];
+            table[i] + (table[i + 1] - table[i]) * (x - i as f32)
+        };
+        let mut rng = crate::sampling::PathRng::new(7, 8, 9);
+        let filters = [
+            (FilterKind::Gaussian { alpha: 2.0 }, Vec2::new(2.0, 1.5)),
+            (FilterKind::BlackmanHarris, Vec2::new(1.5, 0.7)),
+            (
+                FilterKind::Mitchell { b: 0.75, c: 0.125 },
+                Vec2::new(2.0, 3.3),
+            ),
+            (FilterKind::Sinc { tau: 3.0 }, Vec2::new(4.0, 4.0)),
+        ];
+        for (kind, radius) in filters {
+            let filter = SplatFilter::new(&PixelFilter::new(kind, radius));
+            for axis in 0..2 {
+                let r = radius[axis];
+                let mut offsets = vec![0.0, -0.0, r, -r, r.next_up(), f32::NAN, f32::INFINITY];
+                offsets.extend((0..4_000).map(|_| (rng.next_f32() * 2.0 - 1.0) * 1.2 * r));
+                for lanes in offsets.chunks(4) {
+                    let mut group = [0.0; 4];
+                    group[..lanes.len()].copy_from_slice(lanes);
+                    let values = filter.values(axis, Vec4::from_array(group)).to_array();
+                    for (&offset, value) in group.iter().zip(values) {
+                        let expected = scalar(&filter, axis, offset);
+                        assert_eq!(value.to_bits(), expected.to_bits(), "{kind:?} {offset}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

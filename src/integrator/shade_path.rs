@@ -99,7 +99,8 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
                     if sample.wi.dot(surface.geometric_normal) * wi_local.z <= 0.0 {
                         return None;
                     }
-                    let f = bsdf.eval(wo_local, wi_local) * wi_local.z.abs();
+                    let (f, bsdf_pdf) = bsdf.eval_and_pdf(wo_local, wi_local);
+                    let f = f * wi_local.z.abs();
                     if f == Vec3::ZERO {
                         return None;
                     }
@@ -107,7 +108,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
                     let weight = if sample.delta {
                         1.0
                     } else {
-                        power_heuristic(1, light_pdf, 1, bsdf.pdf(wo_local, wi_local))
+                        power_heuristic(1, light_pdf, 1, bsdf_pdf)
                     };
                     let contribution = *path.throughput * f * sample.radiance * weight / light_pdf;
                     contribution.is_finite().then(|| {

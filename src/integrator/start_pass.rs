@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::batch::PathBatch;
 use crate::film::PixelFilter;
-use crate::sampling::{Divisor, PathRng, PixelSampler};
+use crate::sampling::{Divisor, PassStreams, PixelSampler};
 use crate::settings::RenderSettings;
 
 /// Which pass (sample index per pixel) is running.
@@ -39,8 +39,8 @@ pub fn start_pass(
     mut batch: ResMut<PathBatch>,
 ) {
     let width = Divisor::new(settings.width);
-    let seed = settings.seed;
     let pass = pass.0;
+    let streams = PassStreams::new(settings.seed, pass);
     let first = chunk.first;
     let sampler = sampling.sampler.pass(pass);
     let pixels = settings.pixels.as_deref();
@@ -71,7 +71,7 @@ pub fn start_pass(
                 );
                 *pixel = i;
                 *film = centre + sampling.filter.sample(sampler.sample_2d(i, FILM_DIMENSION));
-                *rng = PathRng::new(seed, i, pass);
+                *rng = streams.path(i);
                 *throughput = glam::Vec3::ONE;
                 *radiance = glam::Vec3::ZERO;
                 *depth = 0;

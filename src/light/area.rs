@@ -21,7 +21,7 @@ pub struct AreaLight {
 #[derive(Clone, Debug)]
 enum EmitterShape {
     Triangles {
-        triangles: Vec<[Vec3; 3]>,
+        triangles: Vec<EmitterTriangle>,
         by_area: AliasTable,
         area: f32,
     },
@@ -37,10 +37,11 @@ impl AreaLight {
         let decode = |id: &u32| geometry.ids.decode(*id);
         let shape_kind = match decode(shape.primitives.first()?)? {
             PrimitiveRef::Triangle(_) | PrimitiveRef::InstanceTriangle { .. } => {
-                let triangles: Vec<[Vec3; 3]> = (shape.primitives.iter())
+                let corners: Vec<[Vec3; 3]> = (shape.primitives.iter())
                     .filter_map(|id| geometry.world_triangle(decode(id)?))
                     .collect();
-                let areas: Vec<f32> = triangles.iter().map(triangle_area).collect();
+                let areas: Vec<f32> = corners.iter().map(triangle_area).collect();
+                let triangles = corners.iter().map(EmitterTriangle::new).collect();
                 let area: f32 = areas.iter().sum();
                 if area.is_nan() || area <= 0.0 {
                     return None;
@@ -93,10 +94,10 @@ impl AreaLight {
                 area,
             } => {
                 let (index, _, remapped) = by_area.sample(u.x);
-                let [p0, p1, p2] = triangles[index];
+                let triangle = &triangles[index];
                 let (b1, b2) = uniform_triangle(Vec2::new(remapped, u.y));
-                let point = p0 + (p1 - p0) * b1 + (p2 - p0) * b2;
-                let normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                let point = triangle.p0 + triangle.edge1 * b1 + triangle.edge2 * b2;
+                let normal = triangle.normal;
                 let to_light = point - p;
                 let distance = to_light.length();
                 if distance <= 0.0 {
@@ -183,6 +184,28 @@ impl AreaLight {
                     uniform_cone_pdf((1.0 - r2 / d2).max(0.0).sqrt())
                 }
             }
+        }
+    }
+}
+
+/// An emitting triangle as its samples use it: a corner, the edges from it and the unit
+/// normal, computed once rather than at every light sample.
+#[derive(Clone, Debug)]
+struct EmitterTriangle {
+    p0: Vec3,
+    edge1: Vec3,
+    edge2: Vec3,
+    normal: Vec3,
+}
+
+impl EmitterTriangle {
+    fn new(&[p0, p1, p2]: &[Vec3; 3]) -> Self {
+        let (edge1, edge2) = (p1 - p0, p2 - p0);
+        Self {
+            p0,
+            edge1,
+            edge2,
+            normal: edge1.cross(edge2).normalize_or_zero(),
         }
     }
 }

@@ -109,11 +109,15 @@ pub struct LightTable {
 impl LightTable {
     /// Picks a light by the table's selection weights, in O(1): (index, probability).
     pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
-        if self.lights.is_empty() {
-            return None;
+        match self.lights.len() {
+            0 => None,
+            // The only light: no table lookup (its probability is the table's, 1 unless zero).
+            1 => Some((0, self.selection.pdf(0))),
+            _ => {
+                let (index, probability, _) = self.selection.sample(u);
+                Some((index, probability))
+            }
         }
-        let (index, probability, _) = self.selection.sample(u);
-        Some((index, probability))
     }
 
     pub fn selection_probability(&self, index: usize) -> f32 {

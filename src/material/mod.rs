@@ -5,7 +5,7 @@ pub mod bump;
 pub mod texture;
 
 use bevy_ecs::prelude::*;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::bsdf::microfacet::TrowbridgeReitz;
 use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
@@ -161,73 +161,93 @@ pub struct PaintLobe {
 #[derive(Resource, Clone, Debug)]
 pub struct MaterialTable {
     pub materials: Vec<Material>,
+    /// Per material, its BSDF when that is the same at every point (a scattering material
+    /// whose inputs are all constants), built once here rather than at every hit.
+    fixed: Vec<Option<Bsdf>>,
+}
+
+/// Whether material `m` reads a texture, or a bump map (which reads one).
+fn reads_texture(m: &Material) -> bool {
+    let inputs: &[&Color] = match m {
+        Material::Lambertian { reflectance } => &[reflectance],
+        Material::OrenNayar {
+            reflectance,
+            sigma_degrees,
+        } => &[reflectance, sigma_degrees],
+        Material::CoatedGlossy {
+            diffuse,
+            specular,
+            absorption,
+            ..
+        } => &[diffuse, specular, absorption],
+        Material::SpecularReflection { reflectance } => &[reflectance],
+        Material::Dielectric {
+            reflectance,
+            transmittance,
+            ..
+        } => &[reflectance, transmittance],
+        Material::Conductor { f0, .. } => &[f0],
+        Material::DiffuseTranslucent {
+            reflectance,
+            transmittance,
+            sigma_degrees,
+        } => &[reflectance, transmittance, sigma_degrees],
+        Material::ComplexConductor { reflectance, .. } => &[reflectance],
+        Material::RoughDielectric {
+            reflectance,
+            transmittance,
+            ..
+        }
+        | Material::ThinDielectric {
+            reflectance,
+            transmittance,
+            ..
+        } => &[reflectance, transmittance],
+        Material::Plastic {
+            diffuse, specular, ..
+        }
+        | Material::RoughPlastic {
+            diffuse, specular, ..
+        } => &[diffuse, specular],
+        Material::Mix { amount, .. } => &[amount],
+        Material::FittedConductor { glossy, mirror, .. } => &[glossy, mirror],
+        Material::Velvet { reflectance, .. } => &[reflectance],
+        Material::CarPaint {
+            diffuse,
+            absorption,
+            lobes,
+            ..
+        } => &[
+            diffuse,
+            absorption,
+            &lobes[0].specular,
+            &lobes[1].specular,
+            &lobes[2].specular,
+        ],
+        Material::Bump { .. } => return true,
+        Material::Null | Material::OneSided { .. } => &[],
+    };
+    inputs.iter().any(|c| matches!(c, Color::Texture(_)))
 }
 
 impl MaterialTable {
+    pub fn new(materials: Vec<Material>) -> Self {
+        let constants = Inputs { textures: None };
+        let anywhere = ShadingPoint {
+            p: Vec3::ZERO,
+            uv: Vec2::ZERO,
+            n: Vec3::Z,
+            object: 0,
+        };
+        let fixed = (materials.iter())
+            .map(|m| (!reads_texture(m)).then(|| constants.bsdf(m, &anywhere))?)
+            .collect();
+        Self { materials, fixed }
+    }
+
     /// Whether any material reads a texture (the geometry then keeps uvs).
     pub fn uses_textures(&self) -> bool {
-        self.materials.iter().any(|m| {
-            let inputs: &[&Color] = match m {
-                Material::Lambertian { reflectance } => &[reflectance],
-                Material::OrenNayar {
-                    reflectance,
-                    sigma_degrees,
-                } => &[reflectance, sigma_degrees],
-                Material::CoatedGlossy {
-                    diffuse,
-                    specular,
-                    absorption,
-                    ..
-                } => &[diffuse, specular, absorption],
-                Material::SpecularReflection { reflectance } => &[reflectance],
-                Material::Dielectric {
-                    reflectance,
-                    transmittance,
-                    ..
-                } => &[reflectance, transmittance],
-                Material::Conductor { f0, .. } => &[f0],
-                Material::DiffuseTranslucent {
-                    reflectance,
-                    transmittance,
-                    sigma_degrees,
-                } => &[reflectance, transmittance, sigma_degrees],
-                Material::ComplexConductor { reflectance, .. } => &[reflectance],
-                Material::RoughDielectric {
-                    reflectance,
-                    transmittance,
-                    ..
-                }
-                | Material::ThinDielectric {
-                    reflectance,
-                    transmittance,
-                    ..
-                } => &[reflectance, transmittance],
-                Material::Plastic {
-                    diffuse, specular, ..
-                }
-                | Material::RoughPlastic {
-                    diffuse, specular, ..
-                } => &[diffuse, specular],
-                Material::Mix { amount, .. } => &[amount],
-                Material::FittedConductor { glossy, mirror, .. } => &[glossy, mirror],
-                Material::Velvet { reflectance, .. } => &[reflectance],
-                Material::CarPaint {
-                    diffuse,
-                    absorption,
-                    lobes,
-                    ..
-                } => &[
-                    diffuse,
-                    absorption,
-                    &lobes[0].specular,
-                    &lobes[1].specular,
-                    &lobes[2].specular,
-                ],
-                Material::Bump { .. } => return true,
-                Material::Null | Material::OneSided { .. } => &[],
-            };
-            inputs.iter().any(|c| matches!(c, Color::Texture(_)))
-        })
+        self.materials.iter().any(reads_texture)
     }
 
     /// Whether the geometry must keep uvs: a material reads a texture, or orients anisotropic
@@ -277,6 +297,9 @@ impl MaterialTable {
     ) -> Option<Bsdf> {
         let inputs = Inputs { textures };
         let mut id = id as usize;
+        if let Some(Some(bsdf)) = self.fixed.get(id) {
+            return Some(*bsdf);
+        }
         for _ in 0..MAX_MIX_DEPTH {
             match self.materials.get(id)? {
                 Material::Mix {
@@ -303,7 +326,7 @@ impl MaterialTable {
                     bump(map, sp);
                     id = *material;
                 }
-                leaf => return inputs.bsdf(leaf, sp),
+                leaf => return self.fixed[id].or_else(|| inputs.bsdf(leaf, sp)),
             }
         }
         Some(Bsdf::Lambertian {
@@ -518,5 +541,51 @@ impl Inputs<'_> {
             | Material::Bump { .. }
             | Material::OneSided { .. } => return None,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::{TextureGraph, TextureNode};
+
+    #[test]
+    fn constant_materials_keep_their_bsdf_and_textured_ones_read_their_texture() {
+        let textures = TextureTable {
+            textures: Vec::new(),
+            graph: TextureGraph {
+                nodes: vec![TextureNode::Constant(Vec3::splat(0.75))],
+            },
+        };
+        let table = MaterialTable::new(vec![
+            Material::Lambertian {
+                reflectance: Color::Constant(Vec3::splat(0.25)),
+            },
+            Material::Lambertian {
+                reflectance: Color::Texture(0),
+            },
+            Material::Mix {
+                first: 0,
+                second: 1,
+                amount: Color::Constant(Vec3::splat(0.5)),
+            },
+            Material::Null,
+        ]);
+        let albedo = |id: u32, choice: f32| {
+            let mut point = ShadingPoint {
+                p: Vec3::ONE,
+                uv: Vec2::new(0.3, 0.6),
+                n: Vec3::Z,
+                object: id,
+            };
+            (table.bsdf_at(id, &mut point, Some(&textures), choice, |_, _| {}))
+                .map(|bsdf| bsdf.albedo().x)
+        };
+        assert_eq!(albedo(0, 0.5), Some(0.25));
+        // A texture looked up at the point, not the grey a table built without textures gives.
+        assert_eq!(albedo(1, 0.5), Some(0.75));
+        assert_eq!(albedo(2, 0.25), Some(0.75));
+        assert_eq!(albedo(2, 0.75), Some(0.25));
+        assert_eq!(albedo(3, 0.5), None);
     }
 }

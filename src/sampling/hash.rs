@@ -14,9 +14,13 @@ pub fn mix64(mut z: u64) -> u64 {
 /// Every step is a bijection of h for a fixed word, so inputs differing in one word collide only
 /// by chance (probability ~2^-64).
 pub fn hash_words(words: &[u64]) -> u64 {
-    words.iter().fold(GOLDEN_GAMMA, |h, &w| {
-        mix64(h.wrapping_add(w).wrapping_add(GOLDEN_GAMMA))
-    })
+    words.iter().fold(GOLDEN_GAMMA, |h, &w| hash_extend(h, w))
+}
+
+/// One step of [`hash_words`]' chain: `hash_extend(hash_words(a), w) == hash_words(a ++ [w])`,
+/// so a hash over words that share a prefix can start from the prefix's hash.
+pub fn hash_extend(h: u64, word: u64) -> u64 {
+    mix64(h.wrapping_add(word).wrapping_add(GOLDEN_GAMMA))
 }
 
 /// Folds a 64-bit hash to 32 bits (for Kensler's 32-bit pattern seeds).

@@ -8,6 +8,7 @@ mod divisor;
 mod hash;
 pub mod pixel_sampler;
 pub mod rng;
+mod sobol;
 pub mod warp;
 
 pub use alias::AliasTable;
@@ -15,7 +16,7 @@ pub use bilinear::Bilinear2D;
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
 pub use pixel_sampler::{PassSampler, PixelSampler, SamplerKind};
-pub use rng::PathRng;
+pub use rng::{PassStreams, PathRng};
 
 /// The largest f32 below 1 (1 - 2^-24): samples are clamped to it so that they stay in [0, 1).
 pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;

@@ -4,22 +4,42 @@ use glam::Vec2;
 use rand_xoshiro::Xoshiro128PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 
-use super::hash::{hash_words, mix64, unit_f32};
+use super::hash::{hash_extend, hash_words, mix64, unit_f32};
 
 /// xoshiro128++ (Blackman & Vigna 2018): 16 bytes of state, one per path in a batch.
 ///
-/// The state is seeded from a SplitMix64 chain over (seed, pixel, sample index), so neighbouring
+/// The state is seeded from a SplitMix64 chain over (seed, sample index, pixel), so neighbouring
 /// pixels and consecutive sample indices start from unrelated states.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PathRng(Xoshiro128PlusPlus);
 
-impl PathRng {
-    pub fn new(seed: u64, pixel: u32, sample_index: u32) -> Self {
-        let h = hash_words(&[seed, u64::from(pixel), u64::from(sample_index)]);
+/// The streams of one pass (sample index): the chain's prefix over (seed, sample index) hashed
+/// once, so that seeding a path's stream costs two SplitMix64 steps, not five.
+#[derive(Clone, Copy, Debug)]
+pub struct PassStreams {
+    prefix: u64,
+}
+
+impl PassStreams {
+    pub fn new(seed: u64, sample_index: u32) -> Self {
+        Self {
+            prefix: hash_words(&[seed, u64::from(sample_index)]),
+        }
+    }
+
+    /// The stream of `pixel`'s path in this pass.
+    pub fn path(self, pixel: u32) -> PathRng {
+        let h = hash_extend(self.prefix, u64::from(pixel));
         let mut state = [0u8; 16];
         state[..8].copy_from_slice(&h.to_le_bytes());
         state[8..].copy_from_slice(&mix64(h ^ 0x5851_f42d_4c95_7f2d).to_le_bytes());
-        Self(Xoshiro128PlusPlus::from_seed(state))
+        PathRng(Xoshiro128PlusPlus::from_seed(state))
+    }
+}
+
+impl PathRng {
+    pub fn new(seed: u64, pixel: u32, sample_index: u32) -> Self {
+        PassStreams::new(seed, sample_index).path(pixel)
     }
 
     /// A uniform float in [0, 1): 24 random bits times 2^-24, so 1 is never returned.

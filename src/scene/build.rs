@@ -66,7 +66,7 @@ impl Default for RenderOptions {
             max_depth: None,
             resolution: None,
             seed: 0,
-            sampler: SamplerKind::MultiJittered,
+            sampler: SamplerKind::Sobol,
             integrator: None,
             time_limit: None,
             camera: None,
@@ -118,7 +118,7 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     materials.push(Material::Lambertian {
         reflectance: Color::Constant(Vec3::splat(0.5)),
     });
-    let material_table = MaterialTable { materials };
+    let material_table = MaterialTable::new(materials);
     let uses_textures = material_table.uses_textures();
     let needs_uvs = material_table.needs_uvs();
 
