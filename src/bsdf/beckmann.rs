@@ -8,28 +8,21 @@
 //! both are unbiased, this one is noisier at grazing angles (its reflections below the horizon
 //! are lost samples).
 
-use super::microfacet::clamp_alpha;
+use super::microfacet::Alphas;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Beckmann {
-    pub(super) alpha_x: f32,
-    pub(super) alpha_y: f32,
+    pub(super) alpha: Alphas,
 }
 
 impl Beckmann {
-    /// The alphas are clamped by [`clamp_alpha`], as GGX's.
+    /// The alphas are clamped as GGX's ([`Alphas::new`]).
     pub fn new(alpha_x: f32, alpha_y: f32) -> Self {
         Self {
-            alpha_x: clamp_alpha(alpha_x),
-            alpha_y: clamp_alpha(alpha_y),
+            alpha: Alphas::new(alpha_x, alpha_y),
         }
-    }
-
-    /// Whether the roughness differs along x and y.
-    pub fn is_anisotropic(&self) -> bool {
-        self.alpha_x != self.alpha_y
     }
 
     /// D(wm) = exp(-tan^2(theta_m) (cos^2 phi / ax^2 + sin^2 phi / ay^2)) / (pi ax ay cos^4 theta_m),
@@ -40,15 +33,15 @@ impl Beckmann {
             return 0.0;
         }
         let z2 = wm.z * wm.z;
-        let exponent = ((wm.x / self.alpha_x).powi(2) + (wm.y / self.alpha_y).powi(2)) / z2;
-        (-exponent).exp() / (PI * self.alpha_x * self.alpha_y * z2 * z2)
+        let exponent = ((wm.x / self.alpha.x).powi(2) + (wm.y / self.alpha.y).powi(2)) / z2;
+        (-exponent).exp() / (PI * self.alpha.x * self.alpha.y * z2 * z2)
     }
 
     /// Smith's masking G1(w) by the rational approximation Mitsuba uses (Walter et al. 2007,
     /// eq. 27; below 0.35 % relative error): with a = 1 / (alpha(phi) tan theta),
     /// G1 = (3.535 a + 2.181 a^2) / (1 + 2.276 a + 2.577 a^2) for a < 1.6, else 1.
     pub fn g1(&self, w: Vec3) -> f32 {
-        let xy = (self.alpha_x * w.x).powi(2) + (self.alpha_y * w.y).powi(2);
+        let xy = (self.alpha.x * w.x).powi(2) + (self.alpha.y * w.y).powi(2);
         if xy == 0.0 {
             return 1.0;
         }
@@ -71,7 +64,7 @@ impl Beckmann {
     /// the elevation inverts the marginal CDF 1 - exp(-tan^2 theta / alpha^2):
     /// tan^2 theta = -alpha^2 ln(1 - u.x).
     pub fn sample_wm(&self, u: Vec2) -> Vec3 {
-        let (ax, ay) = (self.alpha_x, self.alpha_y);
+        let (ax, ay) = (self.alpha.x, self.alpha.y);
         let (sin_phi, cos_phi, alpha2) = if ax == ay {
             let (s, c) = (2.0 * PI * u.y).sin_cos();
             (s, c, ax * ax)

@@ -19,8 +19,29 @@ pub const ALPHA_MAX: f32 = 1.0;
 /// GGX with roughness `alpha_x` along the local x axis and `alpha_y` along y.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrowbridgeReitz {
-    pub(super) alpha_x: f32,
-    pub(super) alpha_y: f32,
+    pub(super) alpha: Alphas,
+}
+
+/// A microfacet distribution's roughness along the local x and y axes, each clamped by
+/// [`clamp_alpha`]: GGX's and Beckmann's alike.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Alphas {
+    pub x: f32,
+    pub y: f32,
+}
+
+impl Alphas {
+    pub fn new(alpha_x: f32, alpha_y: f32) -> Self {
+        Self {
+            x: clamp_alpha(alpha_x),
+            y: clamp_alpha(alpha_y),
+        }
+    }
+
+    /// Whether the roughness differs along x and y.
+    pub fn is_anisotropic(&self) -> bool {
+        self.x != self.y
+    }
 }
 
 /// Clamps alpha to [ALPHA_MIN, ALPHA_MAX]; NaN becomes ALPHA_MIN.
@@ -36,14 +57,8 @@ impl TrowbridgeReitz {
     /// The alphas are clamped by [`clamp_alpha`].
     pub fn new(alpha_x: f32, alpha_y: f32) -> Self {
         Self {
-            alpha_x: clamp_alpha(alpha_x),
-            alpha_y: clamp_alpha(alpha_y),
+            alpha: Alphas::new(alpha_x, alpha_y),
         }
-    }
-
-    /// Whether the roughness differs along x and y.
-    pub fn is_anisotropic(&self) -> bool {
-        self.alpha_x != self.alpha_y
     }
 
     /// D(wm), the density of microfacet normals per solid angle, normalised
@@ -56,7 +71,7 @@ impl TrowbridgeReitz {
         if wm.z <= 0.0 {
             return 0.0;
         }
-        let (ax, ay) = (self.alpha_x, self.alpha_y);
+        let (ax, ay) = (self.alpha.x, self.alpha.y);
         let s = (wm.x / ax).powi(2) + (wm.y / ay).powi(2) + wm.z * wm.z;
         1.0 / (PI * ax * ay * s * s)
     }
@@ -69,7 +84,7 @@ impl TrowbridgeReitz {
         if z2 == 0.0 {
             return f32::INFINITY;
         }
-        let a2_tan2 = ((self.alpha_x * w.x).powi(2) + (self.alpha_y * w.y).powi(2)) / z2;
+        let a2_tan2 = ((self.alpha.x * w.x).powi(2) + (self.alpha.y * w.y).powi(2)) / z2;
         // (sqrt(1 + t) - 1) / 2 rewritten as t / (2 (sqrt(1 + t) + 1)) to avoid
         // cancellation for small t.
         a2_tan2 / (2.0 * ((1.0 + a2_tan2).sqrt() + 1.0))
@@ -102,7 +117,7 @@ impl TrowbridgeReitz {
     /// point to the hemisphere, and unstretch.
     pub fn sample_wm(&self, w: Vec3, u: Vec2) -> Vec3 {
         // The view direction in the hemisphere configuration.
-        let wh = Vec3::new(self.alpha_x * w.x, self.alpha_y * w.y, w.z).normalize();
+        let wh = Vec3::new(self.alpha.x * w.x, self.alpha.y * w.y, w.z).normalize();
         // An orthonormal basis around wh (T1 horizontal).
         let t1 = if wh.z < 0.99999 {
             Vec3::Z.cross(wh).normalize()
@@ -119,6 +134,6 @@ impl TrowbridgeReitz {
         // Project onto the hemisphere and back to the ellipsoid configuration.
         let pz = (1.0 - p.length_squared()).max(0.0).sqrt();
         let nh = p.x * t1 + p.y * t2 + pz * wh;
-        Vec3::new(self.alpha_x * nh.x, self.alpha_y * nh.y, nh.z.max(0.0)).normalize()
+        Vec3::new(self.alpha.x * nh.x, self.alpha.y * nh.y, nh.z.max(0.0)).normalize()
     }
 }

@@ -2,7 +2,7 @@
 //! parameter), and the two forms of Smith's masking-shadowing term.
 
 use super::beckmann::Beckmann;
-use super::microfacet::TrowbridgeReitz;
+use super::microfacet::{Alphas, TrowbridgeReitz};
 use glam::{Vec2, Vec3};
 
 /// Which distribution, before its alphas are known.
@@ -42,17 +42,19 @@ impl Microfacet {
     /// Whether the roughness differs along the local x and y axes (the frame's x axis then
     /// matters).
     pub fn is_anisotropic(&self) -> bool {
-        match self {
-            Microfacet::TrowbridgeReitz(d) => d.is_anisotropic(),
-            Microfacet::Beckmann(d) => d.is_anisotropic(),
-        }
+        self.alpha().is_anisotropic()
     }
 
     /// The roughness along the local x and y axes.
     pub fn alphas(&self) -> (f32, f32) {
+        let alpha = self.alpha();
+        (alpha.x, alpha.y)
+    }
+
+    fn alpha(&self) -> Alphas {
         match self {
-            Microfacet::TrowbridgeReitz(d) => (d.alpha_x, d.alpha_y),
-            Microfacet::Beckmann(d) => (d.alpha_x, d.alpha_y),
+            Microfacet::TrowbridgeReitz(d) => d.alpha,
+            Microfacet::Beckmann(d) => d.alpha,
         }
     }
 
