@@ -4,6 +4,8 @@
 pub mod bump;
 pub mod texture;
 
+use std::cell::Cell;
+
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
@@ -166,88 +168,38 @@ pub struct MaterialTable {
     fixed: Vec<Option<Bsdf>>,
 }
 
-/// Whether material `m` reads a texture, or a bump map (which reads one).
-fn reads_texture(m: &Material) -> bool {
-    let inputs: &[&Color] = match m {
-        Material::Lambertian { reflectance } => &[reflectance],
-        Material::OrenNayar {
-            reflectance,
-            sigma_degrees,
-        } => &[reflectance, sigma_degrees],
-        Material::CoatedGlossy {
-            diffuse,
-            specular,
-            absorption,
-            ..
-        } => &[diffuse, specular, absorption],
-        Material::SpecularReflection { reflectance } => &[reflectance],
-        Material::Dielectric {
-            reflectance,
-            transmittance,
-            ..
-        } => &[reflectance, transmittance],
-        Material::Conductor { f0, .. } => &[f0],
-        Material::DiffuseTranslucent {
-            reflectance,
-            transmittance,
-            sigma_degrees,
-        } => &[reflectance, transmittance, sigma_degrees],
-        Material::ComplexConductor { reflectance, .. } => &[reflectance],
-        Material::RoughDielectric {
-            reflectance,
-            transmittance,
-            ..
-        }
-        | Material::ThinDielectric {
-            reflectance,
-            transmittance,
-            ..
-        } => &[reflectance, transmittance],
-        Material::Plastic {
-            diffuse, specular, ..
-        }
-        | Material::RoughPlastic {
-            diffuse, specular, ..
-        } => &[diffuse, specular],
-        Material::Mix { amount, .. } => &[amount],
-        Material::FittedConductor { glossy, mirror, .. } => &[glossy, mirror],
-        Material::Velvet { reflectance, .. } => &[reflectance],
-        Material::CarPaint {
-            diffuse,
-            absorption,
-            lobes,
-            ..
-        } => &[
-            diffuse,
-            absorption,
-            &lobes[0].specular,
-            &lobes[1].specular,
-            &lobes[2].specular,
-        ],
-        Material::Bump { .. } => return true,
-        Material::Null | Material::OneSided { .. } => &[],
+/// The BSDF of `m` when it is the same at every point: a scattering material that reads no
+/// texture while its BSDF is built (so every input the BSDF depends on is a constant).
+fn constant_bsdf(m: &Material) -> Option<Bsdf> {
+    let constants = Inputs {
+        textures: None,
+        read_texture: Cell::new(false),
     };
-    inputs.iter().any(|c| matches!(c, Color::Texture(_)))
+    let anywhere = ShadingPoint {
+        p: Vec3::ZERO,
+        uv: Vec2::ZERO,
+        n: Vec3::Z,
+        object: 0,
+    };
+    let bsdf = constants.bsdf(m, &anywhere)?;
+    (!constants.read_texture.get()).then_some(bsdf)
 }
 
 impl MaterialTable {
     pub fn new(materials: Vec<Material>) -> Self {
-        let constants = Inputs { textures: None };
-        let anywhere = ShadingPoint {
-            p: Vec3::ZERO,
-            uv: Vec2::ZERO,
-            n: Vec3::Z,
-            object: 0,
-        };
-        let fixed = (materials.iter())
-            .map(|m| (!reads_texture(m)).then(|| constants.bsdf(m, &anywhere))?)
-            .collect();
+        let fixed = materials.iter().map(constant_bsdf).collect();
         Self { materials, fixed }
     }
 
-    /// Whether any material reads a texture (the geometry then keeps uvs).
+    /// Whether any material reads a texture (the geometry then keeps uvs): a bump map, a mix
+    /// of textured amount, or a scattering material whose BSDF is not constant.
     pub fn uses_textures(&self) -> bool {
-        self.materials.iter().any(reads_texture)
+        (self.materials.iter().zip(&self.fixed)).any(|(m, fixed)| match m {
+            Material::Bump { .. } => true,
+            Material::Mix { amount, .. } => matches!(amount, Color::Texture(_)),
+            Material::Null | Material::OneSided { .. } => false,
+            _ => fixed.is_none(),
+        })
     }
 
     /// Whether the geometry must keep uvs: a material reads a texture, or orients anisotropic
@@ -295,7 +247,10 @@ impl MaterialTable {
         mut choice: f32,
         mut bump: impl FnMut(&BumpMap, &mut ShadingPoint),
     ) -> Option<Bsdf> {
-        let inputs = Inputs { textures };
+        let inputs = Inputs {
+            textures,
+            read_texture: Cell::new(false),
+        };
         let mut id = id as usize;
         if let Some(Some(bsdf)) = self.fixed.get(id) {
             return Some(*bsdf);
@@ -338,10 +293,15 @@ impl MaterialTable {
 /// Reads a material's inputs at a shading point.
 struct Inputs<'a> {
     textures: Option<&'a TextureTable>,
+    /// Set when an input named a texture: the BSDF built then varies over the surface.
+    read_texture: Cell<bool>,
 }
 
 impl Inputs<'_> {
     fn raw(&self, c: &Color, sp: &ShadingPoint) -> Vec3 {
+        if matches!(c, Color::Texture(_)) {
+            self.read_texture.set(true);
+        }
         match (c, self.textures) {
             (Color::Constant(c), _) => *c,
             (Color::Texture(t), Some(table)) => table.lookup(*t, sp),
