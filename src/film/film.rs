@@ -249,32 +249,30 @@ impl Film {
         }]);
     }
 
-    /// Adds `samples` as [`Film::add_sample`] would one after the other, in parallel over bands
-    /// of rows: each band takes every sample's share of its rows, in the order of `samples`, so
-    /// every pixel sums its contributions in the same order as the serial loop and the result is
-    /// the same to the bit whatever the number of bands or threads.
+    /// Adds `samples` as [`Film::add_sample`] would one after the other. Samples in pixel order
+    /// (as the renderer retires them: a chunk's paths are in pixel order and compaction keeps
+    /// it) are added in parallel over bands of rows: each band takes every sample's share of its
+    /// rows, in the order of `samples`, so every pixel sums its contributions in the same order
+    /// as the serial loop and the result is the same to the bit whatever the number of bands or
+    /// threads. Samples in any other order are added one after the other.
     pub fn add_samples(&mut self, samples: &[FilmSample]) {
         let width = self.width as usize;
         let n = self.counts.len();
-        // The rows each sample touches: its footprint's and its own pixel's (which counts it).
         let splat = self.splat.as_ref();
-        let span = |sample: &FilmSample| {
-            let home = sample.pixel as usize / width;
-            let (first, count) = splat.map_or((home, 1), |filter| {
-                footprint_span(sample.position.y, filter.radius.y, self.height)
-            });
-            (first.min(home), (first + count).max(home + 1))
-        };
-        if rayon::current_num_threads() == 1 || samples.len() < 2 * MIN_SAMPLES_PER_BAND {
-            // One band, all samples in order: no sorting.
+        let film_size = (self.width, self.height);
+        let max_component = self.max_component;
+        let in_pixel_order = || samples.is_sorted_by_key(|sample| sample.pixel);
+        if rayon::current_num_threads() == 1
+            || samples.len() < 2 * MIN_SAMPLES_PER_BAND
+            || !in_pixel_order()
+        {
             let mut rows = FilmRows {
                 first_row: 0,
                 sums: &mut self.sums,
                 weights: &mut self.weights,
                 counts: &mut self.counts,
-                max_component: self.max_component,
+                max_component,
             };
-            let film_size = (self.width, self.height);
             let rejected = (samples.iter())
                 .filter(|sample| {
                     (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample)
@@ -283,70 +281,44 @@ impl Film {
             self.rejected += rejected as u64;
             return;
         }
-        // Rows per sample (an empty span for a pixel outside the film), and the rows of all.
-        let spans: Vec<(u32, u32)> = (samples.iter())
-            .map(|sample| {
-                if (sample.pixel as usize) < n {
-                    let (first, end) = span(sample);
-                    (first as u32, end as u32)
-                } else {
-                    (0, 0)
-                }
-            })
-            .collect();
-        let outside = spans.iter().filter(|(first, end)| first == end).count();
-        self.rejected += outside as u64;
-        let (first_row, end_row) = (spans.iter())
-            .filter(|(first, end)| first < end)
-            .fold((u32::MAX, 0), |(low, high), &(first, end)| {
-                (low.min(first), high.max(end))
-            });
-        let (first_row, end_row) = (first_row as usize, end_row as usize);
-        if first_row >= end_row {
+        // In pixel order, the samples outside the film come last, and a sample's own row (its
+        // pixel / width) never decreases: the samples that may touch a band of rows are one
+        // run, found by binary search. A sample's position lies in its pixel, row h, so y is in
+        // [h, h + 1] and the rows j whose centres are within ry of it satisfy
+        // |j + 0.5 - y| <= ry: h - floor(ry + 0.5) <= j <= h + floor(ry + 0.5). One row more on
+        // each side covers the f32 rounding of the footprint's bounds.
+        let inside = samples.partition_point(|sample| (sample.pixel as usize) < n);
+        self.rejected += (samples.len() - inside) as u64;
+        let samples = &samples[..inside];
+        let Some((first, last)) = samples.first().zip(samples.last()) else {
             return;
-        }
+        };
+        let reach = splat.map_or(0, |filter| (filter.radius.y + 0.5) as usize + 1);
+        let height = self.height as usize;
+        let first_row = (first.pixel as usize / width).saturating_sub(reach);
+        let end_row = (last.pixel as usize / width + reach + 1).min(height);
         let rows = end_row - first_row;
         let bands = (rayon::current_num_threads() * BANDS_PER_THREAD)
             .min(samples.len() / MIN_SAMPLES_PER_BAND)
             .clamp(1, rows);
         let band_rows = rows.div_ceil(bands);
-        // Each band's samples, in their order: a counting sort of the sample indices by the
-        // bands they touch (one or a few each: bands are wider than most footprints).
-        let band_span = |&(first, end): &(u32, u32)| {
-            (first as usize - first_row) / band_rows..(end as usize - 1 - first_row) / band_rows + 1
+        // The run of samples whose own rows lie within `reach` of the band's rows.
+        let band_samples = |band: usize| {
+            let low = (first_row + band * band_rows).saturating_sub(reach) * width;
+            let high = (first_row + (band + 1) * band_rows + reach) * width;
+            let start = samples.partition_point(|sample| (sample.pixel as usize) < low);
+            let end = samples.partition_point(|sample| (sample.pixel as usize) < high);
+            &samples[start..end.max(start)]
         };
-        let mut starts = vec![0; bands + 1];
-        for span in spans.iter().filter(|(first, end)| first < end) {
-            for band in band_span(span) {
-                starts[band + 1] += 1;
-            }
-        }
-        for band in 0..bands {
-            starts[band + 1] += starts[band];
-        }
-        let mut order = vec![0u32; starts[bands]];
-        let mut next = starts.clone();
-        for (i, span) in spans.iter().enumerate() {
-            if span.0 < span.1 {
-                for band in band_span(span) {
-                    order[next[band]] = i as u32;
-                    next[band] += 1;
-                }
-            }
-        }
-        let band_samples: Vec<&[u32]> = starts.windows(2).map(|w| &order[w[0]..w[1]]).collect();
         let range = first_row * width..end_row * width;
-        let film_size = (self.width, self.height);
-        let max_component = self.max_component;
         let rejected: u64 = (
             self.sums[range.clone()].par_chunks_mut(band_rows * width),
             self.weights[range.clone()].par_chunks_mut(band_rows * width),
             self.counts[range].par_chunks_mut(band_rows * width),
-            band_samples,
         )
             .into_par_iter()
             .enumerate()
-            .map(|(band, (sums, weights, counts, indices))| {
+            .map(|(band, (sums, weights, counts))| {
                 let mut rows = FilmRows {
                     first_row: first_row + band * band_rows,
                     sums,
@@ -354,8 +326,8 @@ impl Film {
                     counts,
                     max_component,
                 };
-                (indices.iter())
-                    .filter(|&&i| !rows.add(film_size, splat, &samples[i as usize]))
+                (band_samples(band).iter())
+                    .filter(|sample| !rows.add(film_size, splat, sample))
                     .count() as u64
             })
             .sum();
@@ -514,14 +486,17 @@ mod tests {
     }
 
     /// The banded parallel splatting against one sample at a time: the same sums, weights,
-    /// counts and rejections to the bit, for a filter wider than a pixel, invalid samples and
-    /// pixels outside the film, at several thread counts.
+    /// counts and rejections to the bit, for filters wider than a pixel and the one-pixel box,
+    /// positions on their pixels' edges, invalid samples and pixels outside the film, at several
+    /// thread counts; with the samples in pixel order (as the renderer retires them, the banded
+    /// path) and in any order.
     #[test]
     fn parallel_splatting_matches_serial_to_the_bit() {
+        use crate::film::FilterKind;
         let (width, height) = (37, 53);
         let mut rng = crate::sampling::PathRng::new(1, 2, 3);
         let mut next = || rng.next_f32();
-        let samples: Vec<FilmSample> = (0..20_000)
+        let mut samples: Vec<FilmSample> = (0..20_000)
             .map(|i| {
                 let pixel = (next() * (width * height + 40) as f32) as u32;
                 let (x, y) = (pixel % width, pixel / width);
@@ -529,40 +504,53 @@ mod tests {
                 if i % 997 == 0 {
                     radiance.x = f32::NAN;
                 }
+                // Every 7th sample on its pixel's top or bottom edge.
+                let dy = if i % 7 == 0 { (i % 2) as f32 } else { next() };
                 FilmSample {
                     pixel,
-                    position: Vec2::new(x as f32 + next(), y as f32 + next()),
+                    position: Vec2::new(x as f32 + next(), y as f32 + dy),
                     radiance,
                 }
             })
             .collect();
-        let filter = PixelFilter::new(
-            crate::film::FilterKind::Gaussian { alpha: 2.0 },
-            Vec2::splat(2.0),
-        );
-        let mut serial = Film::new(width, height);
-        serial.splat_with(filter.clone());
-        for s in &samples {
-            serial.add_sample(s.pixel, s.position, s.radiance);
+        let filters = [
+            PixelFilter::new(FilterKind::Gaussian { alpha: 2.0 }, Vec2::splat(2.0)),
+            PixelFilter::new(
+                FilterKind::Mitchell { b: 0.75, c: 0.125 },
+                Vec2::new(0.7, 3.3),
+            ),
+            PixelFilter::pixel_box(),
+        ];
+        // Handed over in two batches, as two bounces would.
+        let (any_order, mut in_order) = (samples.clone(), samples.split_off(12_000));
+        samples.sort_by_key(|sample| sample.pixel);
+        in_order.sort_by_key(|sample| sample.pixel);
+        let in_order = [samples, in_order];
+        let any_order = [any_order[..12_000].to_vec(), any_order[12_000..].to_vec()];
+        for filter in filters {
+            for batches in [&in_order, &any_order] {
+                let mut serial = Film::new(width, height);
+                serial.splat_with(filter.clone());
+                for s in batches.iter().flatten() {
+                    serial.add_sample(s.pixel, s.position, s.radiance);
+                }
+                assert!(serial.rejected > 20, "{}", serial.rejected);
+                for threads in [1, 2, 3, 8] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    let mut film = Film::new(width, height);
+                    film.splat_with(filter.clone());
+                    pool.install(|| batches.iter().for_each(|b| film.add_samples(b)));
+                    let case = format!("{filter:?}, {threads} threads");
+                    assert_eq!(film.sums, serial.sums, "{case}");
+                    assert_eq!(film.weights, serial.weights, "{case}");
+                    assert_eq!(film.counts, serial.counts, "{case}");
+                    assert_eq!(film.rejected, serial.rejected, "{case}");
+                }
+            }
         }
-        for threads in [1, 2, 3, 8] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let mut film = Film::new(width, height);
-            film.splat_with(filter.clone());
-            // In two batches, as two bounces would hand them over.
-            pool.install(|| {
-                film.add_samples(&samples[..12_000]);
-                film.add_samples(&samples[12_000..]);
-            });
-            assert_eq!(film.sums, serial.sums, "{threads} threads");
-            assert_eq!(film.weights, serial.weights, "{threads} threads");
-            assert_eq!(film.counts, serial.counts, "{threads} threads");
-            assert_eq!(film.rejected, serial.rejected, "{threads} threads");
-        }
-        assert!(serial.rejected > 20, "{}", serial.rejected);
     }
 
     /// The one-pixel box skips the footprint: the same sums, weights and counts to the bit as
