@@ -358,7 +358,11 @@ impl Renderer {
                     first: first as u32,
                     count: count as u32,
                 };
-                rays += self.trace_chunk(count);
+                // On a worker of the thread pool, the stages' parallel loops hand their halves to
+                // the other workers directly; from outside it, each loop would be injected into
+                // the pool and this thread put to sleep until it ends (two wake-ups per loop,
+                // about ten loops per bounce).
+                rays += rayon::scope(|_| self.trace_chunk(count));
                 paths += count as u64;
                 let pass_done = first + count == pixels;
                 passes += u32::from(pass_done);
