@@ -1,7 +1,7 @@
 //! The first stage of a chunk: one fresh path per pixel of the chunk, with its film sample.
 
 use bevy_ecs::prelude::*;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::batch::PathBatch;
@@ -46,38 +46,46 @@ pub fn start_pass(
     let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
+    // Blocks of paths, each a plain loop over its slices: the sampled fields path by path,
+    // the constant ones filled (vector stores), rather than rayon zipping nine fields per path.
     (
-        &mut batch.pixel[..],
-        &mut batch.film_position[..],
-        &mut batch.rng[..],
-        &mut batch.throughput[..],
-        &mut batch.radiance[..],
-        &mut batch.depth[..],
-        &mut batch.pass_through[..],
-        &mut batch.scatter_pdf[..],
-        &mut batch.alive[..],
+        batch.pixel.par_chunks_mut(BLOCK),
+        batch.film_position.par_chunks_mut(BLOCK),
+        batch.rng.par_chunks_mut(BLOCK),
+        batch.throughput.par_chunks_mut(BLOCK),
+        batch.radiance.par_chunks_mut(BLOCK),
+        batch.depth.par_chunks_mut(BLOCK),
+        batch.pass_through.par_chunks_mut(BLOCK),
+        batch.scatter_pdf.par_chunks_mut(BLOCK),
+        batch.alive.par_chunks_mut(BLOCK),
     )
         .into_par_iter()
         .enumerate()
-        .with_min_len(1024)
         .for_each(
-            |(i, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
-                // Path `first + i` of the pass: its pixel, or the crop's pixel list's entry.
-                let path = first as usize + i;
-                let i = pixels.map_or(path as u32, |p| p[path]);
-                let centre = Vec2::new(
-                    width.remainder(i) as f32 + 0.5,
-                    width.quotient(i) as f32 + 0.5,
-                );
-                *pixel = i;
-                *film = centre + sampling.filter.sample(sampler.sample_2d(i, FILM_DIMENSION));
-                *rng = streams.path(i);
-                *throughput = glam::Vec3::ONE;
-                *radiance = glam::Vec3::ZERO;
-                *depth = 0;
-                *through = 0;
-                *pdf = 0.0;
-                *alive = true;
+            |(block, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
+                let first = first as usize + block * BLOCK;
+                for (path, ((pixel, film), rng)) in
+                    (first..).zip(pixel.iter_mut().zip(film).zip(rng))
+                {
+                    // Path `first + i` of the pass: its pixel, or the crop's pixel list's entry.
+                    let i = pixels.map_or(path as u32, |p| p[path]);
+                    let centre = Vec2::new(
+                        width.remainder(i) as f32 + 0.5,
+                        width.quotient(i) as f32 + 0.5,
+                    );
+                    *pixel = i;
+                    *film = centre + sampling.filter.sample(sampler.sample_2d(i, FILM_DIMENSION));
+                    *rng = streams.path(i);
+                }
+                throughput.fill(Vec3::ONE);
+                radiance.fill(Vec3::ZERO);
+                depth.fill(0);
+                through.fill(0);
+                pdf.fill(0.0);
+                alive.fill(true);
             },
         );
 }
+
+/// Paths per task of [`start_pass`].
+const BLOCK: usize = 1024;

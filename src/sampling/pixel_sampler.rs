@@ -149,10 +149,13 @@ impl PassSampler<'_> {
         let seeds = hash_extend(prefix, u64::from(pixel));
         let pair = 2 * (dimension as usize % pairs);
         let (x, y) = (self.sobol_reversed[pair], self.sobol_reversed[pair + 1]);
-        Vec2::new(
-            unit_f32(owen_scramble_reversed(x, seeds as u32).reverse_bits()),
-            unit_f32(owen_scramble_reversed(y, (seeds >> 32) as u32).reverse_bits()),
-        )
+        let (x, y) = (
+            owen_scramble_reversed(x, seeds as u32),
+            owen_scramble_reversed(y, (seeds >> 32) as u32),
+        );
+        // Both words reversed at once: reversing the 64 bits of (x, y) gives (rev y, rev x).
+        let both = (u64::from(x) << 32 | u64::from(y)).reverse_bits();
+        Vec2::new(unit_f32(both as u32), unit_f32((both >> 32) as u32))
     }
 
     /// Jittered sampling: sample `s` goes to stratum permute(s) of the m x n grid, the
