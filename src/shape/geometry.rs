@@ -8,7 +8,10 @@ use std::sync::Arc;
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};
 
-use super::{AreaEmitter, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh};
+use super::{
+    AreaEmitter, FLAT_NORMAL_COS, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh,
+    normals_follow_faces,
+};
 use crate::accel::{
     Accel, MeshInstance, PassThrough, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives,
     SphereInstance,
@@ -81,7 +84,13 @@ pub fn build_scene_geometry(
     materials: Res<MaterialTable>,
     mut commands: Commands,
 ) {
-    let any_normals = meshes.iter().any(|(mesh, _, _)| mesh.normals.is_some());
+    // Vertex normals that only repeat the faces' (Mitsuba's rectangles and cubes carry them)
+    // are not kept: a hit then takes the face normal, without interpolating and normalising.
+    let any_normals = meshes.iter().any(|(mesh, _, _)| {
+        (mesh.normals.as_ref()).is_some_and(|normals| {
+            !normals_follow_faces(&mesh.positions, normals, &mesh.indices, FLAT_NORMAL_COS)
+        })
+    });
     let mut triangles = Vec::new();
     let mut triangle_normals = Vec::new();
     let mut triangle_uvs = Vec::new();

@@ -20,6 +20,29 @@ pub struct TriangleMesh {
     pub indices: Vec<[u32; 3]>,
 }
 
+/// Whether every triangle's vertex normals lie within the angle of cosine `min_cos` of its
+/// face normal, so that shading with face normals looks the same. Degenerate triangles count
+/// as flat.
+pub fn normals_follow_faces(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    indices: &[[u32; 3]],
+    min_cos: f32,
+) -> bool {
+    indices.iter().all(|&[a, b, c]| {
+        let p = |i: u32| positions[i as usize];
+        let face = (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero();
+        face == Vec3::ZERO
+            || [a, b, c]
+                .iter()
+                .all(|&i| normals[i as usize].normalize_or_zero().dot(face) >= min_cos)
+    })
+}
+
+/// Vertex normals within this cosine of their faces' (an angle of 1.4e-3 radians, a few float
+/// roundings of the face normal) are the faces' own: the geometry keeps none of them.
+pub const FLAT_NORMAL_COS: f32 = 1.0 - 1e-6;
+
 /// A placed copy of a shared mesh (its triangles in object space): every instance of one mesh
 /// holds the same `Arc`, and the BVH builds that mesh's tree once (`accel::instances`).
 #[derive(Component, Clone, Debug)]
