@@ -97,6 +97,7 @@ impl Scene<'_> {
 
     /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du
     /// where the roughness is anisotropic (Mitsuba's convention), arbitrary otherwise.
+    #[inline]
     pub fn shading_frame(&self, surface: &SurfacePoint, bsdf: &Bsdf) -> Frame {
         if bsdf.is_anisotropic() {
             let (dpdu, _) = self.geometry.uv_derivatives(surface.prim, surface.position);
@@ -142,6 +143,7 @@ impl PathSlots<'_> {
     }
 
     /// Follows `direction` from `surface` with the throughput scaled by `weight`.
+    #[inline]
     pub fn scatter(&mut self, surface: &SurfacePoint, direction: Vec3, weight: Vec3) {
         *self.throughput *= weight;
         *self.origin = offset_ray_origin(surface.position, surface.geometric_normal, direction);
