@@ -35,6 +35,10 @@ pub struct SceneGeometry {
     pub ids: PrimitiveIds,
     /// World-space vertices of each triangle.
     pub triangles: Vec<[Vec3; 3]>,
+    /// Unit geometric normal of each triangle (by its winding), computed once here rather than
+    /// at every hit: the shading reads 12 bytes instead of the 36 of the vertices, and no cross
+    /// product and normalisation.
+    pub face_normals: Vec<Vec3>,
     /// Per-triangle vertex normals; empty when no mesh has normals.
     pub triangle_normals: Vec<[Vec3; 3]>,
     /// Per-triangle vertex uvs; empty unless the scene samples textures.
@@ -218,10 +222,12 @@ pub fn build_scene_geometry(
     let pass_through = PassThrough::new(ids.count(), |id| {
         (material.get(id as usize)).is_some_and(|&m| materials.is_null(m))
     });
+    let face_normals = triangles.iter().map(face_normal).collect();
     commands.insert_resource(SceneGeometry {
         accel: Arc::new(Accel::build(&primitives)),
         ids,
         triangles,
+        face_normals,
         triangle_normals,
         triangle_uvs,
         uvs: needs.uvs,
@@ -252,6 +258,11 @@ impl SceneGeometry {
             PrimitiveRef::Sphere(_) | PrimitiveRef::Plane(_) => None,
         }
     }
+}
+
+/// A triangle's unit normal by its winding; +z for a degenerate one.
+pub fn face_normal(&[p0, p1, p2]: &[Vec3; 3]) -> Vec3 {
+    (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z)
 }
 
 /// An emissive shape's primitives, before ids are assigned.
