@@ -229,6 +229,23 @@ pub fn shade_live_paths(
                 ),
                 (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
             )| {
+                // Every field resliced to the block's length: the compiler then knows each
+                // index below is in bounds and drops the ten checks per path.
+                let m = hits.len();
+                let (origin, direction, vertex, throughput, radiance) = (
+                    &mut origin[..m],
+                    &mut direction[..m],
+                    &mut vertex[..m],
+                    &mut throughput[..m],
+                    &mut radiance[..m],
+                );
+                let (depth, through, rng, pdf, alive) = (
+                    &mut depth[..m],
+                    &mut through[..m],
+                    &mut rng[..m],
+                    &mut pdf[..m],
+                    &mut alive[..m],
+                );
                 for (i, hit) in hits.iter().enumerate() {
                     if !alive[i] {
                         continue;
