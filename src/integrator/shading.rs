@@ -1,5 +1,7 @@
 //! What both shading stages share: the scene they read, a path's slots, its shadow ray.
 
+use std::borrow::Cow;
+
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use glam::Vec3;
@@ -69,8 +71,12 @@ pub struct Scene<'a> {
 impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
     /// `choice` in [0, 1) picks the side of each mix. A bump map on the way bends the surface's
-    /// shading normal (the one hook for bump mapping).
-    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Bsdf> {
+    /// shading normal (the one hook for bump mapping). A material's BSDF that is the same
+    /// everywhere is lent from the table: no shading point to fill, no copy.
+    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Cow<'_, Bsdf>> {
+        if let Some(bsdf) = self.materials.fixed_bsdf(surface.material) {
+            return Some(Cow::Borrowed(bsdf));
+        }
         let mut point = ShadingPoint {
             p: surface.position,
             uv: surface.uv,
@@ -92,7 +98,7 @@ impl Scene<'_> {
             },
         );
         surface.shading_normal = point.n;
-        bsdf
+        bsdf.map(Cow::Owned)
     }
 
     /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du

@@ -235,6 +235,11 @@ impl MaterialTable {
         )
     }
 
+    /// The BSDF of material `id` when it is the same at every point (see `fixed`).
+    pub fn fixed_bsdf(&self, id: u32) -> Option<&Bsdf> {
+        self.fixed.get(id as usize)?.as_ref()
+    }
+
     /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
     /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one);
     /// `bump` is called with each bump map met on the way, outermost first, and may change the
@@ -251,10 +256,10 @@ impl MaterialTable {
             textures,
             read_texture: Cell::new(false),
         };
-        let mut id = id as usize;
-        if let Some(Some(bsdf)) = self.fixed.get(id) {
+        if let Some(bsdf) = self.fixed_bsdf(id) {
             return Some(*bsdf);
         }
+        let mut id = id as usize;
         for _ in 0..MAX_MIX_DEPTH {
             match self.materials.get(id)? {
                 Material::Mix {
