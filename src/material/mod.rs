@@ -164,7 +164,8 @@ pub struct PaintLobe {
 pub struct MaterialTable {
     pub materials: Vec<Material>,
     /// Per material, its BSDF when that is the same at every point (a scattering material
-    /// whose inputs are all constants), built once here rather than at every hit.
+    /// whose inputs are all constants, or a one-sided wrapper of one), built once here rather
+    /// than at every hit.
     fixed: Vec<Option<Bsdf>>,
 }
 
@@ -187,7 +188,22 @@ fn constant_bsdf(m: &Material) -> Option<Bsdf> {
 
 impl MaterialTable {
     pub fn new(materials: Vec<Material>) -> Self {
-        let fixed = materials.iter().map(constant_bsdf).collect();
+        let constant: Vec<Option<Bsdf>> = materials.iter().map(constant_bsdf).collect();
+        // A one-sided material scatters as the one it wraps (its side is checked apart, by
+        // `is_one_sided`); chains are followed as far as `bsdf_at` follows them.
+        let fixed = (0..materials.len())
+            .map(|mut id| {
+                for _ in 0..MAX_MIX_DEPTH {
+                    match materials[id] {
+                        Material::OneSided { material } if material < materials.len() => {
+                            id = material;
+                        }
+                        _ => return constant[id],
+                    }
+                }
+                None
+            })
+            .collect();
         Self { materials, fixed }
     }
 
