@@ -551,7 +551,17 @@ mod tests {
                 amount: Color::Constant(Vec3::splat(0.5)),
             },
             Material::Null,
+            Material::OneSided { material: 0 },
+            Material::OneSided { material: 1 },
         ]);
+        // A one-sided wrapper lends its constant material's BSDF, and only a constant one.
+        let fixed_albedo = |id: u32| table.fixed_bsdf(id).map(|bsdf| bsdf.albedo().x);
+        assert_eq!(fixed_albedo(0), Some(0.25));
+        assert_eq!(fixed_albedo(4), Some(0.25));
+        assert_eq!(
+            (fixed_albedo(1), fixed_albedo(2), fixed_albedo(5)),
+            (None, None, None)
+        );
         let albedo = |id: u32, choice: f32| {
             let mut point = ShadingPoint {
                 p: Vec3::ONE,
@@ -568,5 +578,7 @@ mod tests {
         assert_eq!(albedo(2, 0.25), Some(0.75));
         assert_eq!(albedo(2, 0.75), Some(0.25));
         assert_eq!(albedo(3, 0.5), None);
+        assert_eq!(albedo(4, 0.5), Some(0.25));
+        assert_eq!(albedo(5, 0.5), Some(0.75));
     }
 }

@@ -74,3 +74,31 @@ pub struct SurfaceMaterial(pub u32);
 pub struct AreaEmitter {
     pub radiance: Vec3,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normals_follow_faces_only_where_each_vertex_normal_is_its_face_normal() {
+        // The unit square in z = 0, wound counter-clockwise about +z.
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+        let indices = [[0, 1, 2], [0, 2, 3]];
+        let follows =
+            |normals: &[Vec3]| normals_follow_faces(&positions, normals, &indices, FLAT_NORMAL_COS);
+        // Unnormalised normals along the face count as the face's.
+        assert!(follows(&[Vec3::Z, Vec3::Z * 2.0, Vec3::Z, Vec3::Z]));
+        // Flipped, or one tilted by 0.01 radians: not the face's.
+        assert!(!follows(&[Vec3::NEG_Z; 4]));
+        let tilted = Vec3::new(0.01f32.sin(), 0.0, 0.01f32.cos());
+        assert!(!follows(&[Vec3::Z, Vec3::Z, tilted, Vec3::Z]));
+        // A degenerate triangle has no face normal to differ from.
+        let line = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
+        assert!(normals_follow_faces(
+            &line,
+            &[Vec3::Y; 3],
+            &[[0, 1, 2]],
+            FLAT_NORMAL_COS
+        ));
+    }
+}
