@@ -238,14 +238,23 @@ pub fn shade_live_paths(
                 // Every field resliced to the block's length: the compiler then knows each
                 // index below is in bounds and drops the ten checks per path.
                 let m = hits.len();
-                let (origin, direction, vertex, throughput, radiance) = (
+                let (
+                    origin,
+                    direction,
+                    vertex,
+                    throughput,
+                    radiance,
+                    depth,
+                    through,
+                    rng,
+                    pdf,
+                    alive,
+                ) = (
                     &mut origin[..m],
                     &mut direction[..m],
                     &mut vertex[..m],
                     &mut throughput[..m],
                     &mut radiance[..m],
-                );
-                let (depth, through, rng, pdf, alive) = (
                     &mut depth[..m],
                     &mut through[..m],
                     &mut rng[..m],
