@@ -159,6 +159,20 @@ fn direction(w: Vec3) -> Option<Vec3> {
     w.try_normalize()
 }
 
+/// A BSDF value as returned: non-finite ones (never meant) become 0.
+fn finite_or_zero(f: Vec3) -> Vec3 {
+    if f.is_finite() { f } else { Vec3::ZERO }
+}
+
+/// A density as returned: 0 unless finite and positive.
+fn density_or_zero(pdf: f32) -> f32 {
+    if pdf.is_finite() && pdf > 0.0 {
+        pdf
+    } else {
+        0.0
+    }
+}
+
 impl Bsdf {
     /// f(wo, wi) for non-delta lobes (0 for delta ones); both in the local
     /// frame, pointing away from the surface.
@@ -181,10 +195,19 @@ impl Bsdf {
     /// [`Bsdf::eval`] and [`Bsdf::pdf`] together, as next-event estimation needs both: the
     /// directions are checked and normalised once.
     pub fn eval_and_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        match (direction(wo), direction(wi)) {
-            (Some(wo), Some(wi)) => (self.eval_unit(wo, wi), self.pdf_unit(wo, wi)),
-            _ => (Vec3::ZERO, 0.0),
+        let (Some(wo), Some(wi)) = (direction(wo), direction(wi)) else {
+            return (Vec3::ZERO, 0.0);
+        };
+        // The commonest BSDF without the two dispatches (and calls) of `eval_unit` and
+        // `pdf_unit`: the same values, a third of the instructions.
+        if let Bsdf::Lambertian { reflectance } = *self {
+            let lambertian = Lambertian { reflectance };
+            return (
+                finite_or_zero(lambertian.eval(wo, wi)),
+                density_or_zero(lambertian.pdf(wo, wi)),
+            );
         }
+        (self.eval_unit(wo, wi), self.pdf_unit(wo, wi))
     }
 
     /// `eval` for unit directions.
@@ -211,7 +234,7 @@ impl Bsdf {
             | Bsdf::ThinDielectric(_)
             | Bsdf::SmoothConductor(_) => Vec3::ZERO,
         };
-        if f.is_finite() { f } else { Vec3::ZERO }
+        finite_or_zero(f)
     }
 
     /// `pdf` for unit directions.
@@ -238,11 +261,7 @@ impl Bsdf {
             | Bsdf::ThinDielectric(_)
             | Bsdf::SmoothConductor(_) => 0.0,
         };
-        if pdf.is_finite() && pdf > 0.0 {
-            pdf
-        } else {
-            0.0
-        }
+        density_or_zero(pdf)
     }
 
     /// `u`: a 2D sample, `uc`: a 1D sample (to choose reflection or

@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::batch::{PathBatch, ShadowBatch};
 use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
 use crate::accel::Hit;
+use crate::bsdf::Bsdf;
 use crate::light::LightTable;
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
@@ -72,16 +73,17 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         path.pass_through(&surface);
         return None;
     };
+    let bsdf: &Bsdf = &bsdf;
     if *path.depth >= scene.max_depth {
         *path.alive = false;
         return None;
     }
     let one_sided = scene.materials.is_one_sided(surface.material);
-    if !face_forward(&mut surface, &bsdf, wo, one_sided) {
+    if !face_forward(&mut surface, bsdf, wo, one_sided) {
         *path.alive = false;
         return None;
     }
-    let frame = scene.shading_frame(&surface, &bsdf);
+    let frame = scene.shading_frame(&surface, bsdf);
     let wo_local = frame.to_local(wo);
 
     // Next-event estimation: one light, chosen by power.

@@ -1,5 +1,7 @@
 //! What both shading stages share: the scene they read, a path's slots, its shadow ray.
 
+use std::borrow::Cow;
+
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use glam::Vec3;
@@ -69,8 +71,12 @@ pub struct Scene<'a> {
 impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
     /// `choice` in [0, 1) picks the side of each mix. A bump map on the way bends the surface's
-    /// shading normal (the one hook for bump mapping).
-    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Bsdf> {
+    /// shading normal (the one hook for bump mapping). A material's BSDF that is the same
+    /// everywhere is lent from the table: no shading point to fill, no copy.
+    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Cow<'_, Bsdf>> {
+        if let Some(bsdf) = self.materials.fixed_bsdf(surface.material) {
+            return Some(Cow::Borrowed(bsdf));
+        }
         let mut point = ShadingPoint {
             p: surface.position,
             uv: surface.uv,
@@ -92,11 +98,12 @@ impl Scene<'_> {
             },
         );
         surface.shading_normal = point.n;
-        bsdf
+        bsdf.map(Cow::Owned)
     }
 
     /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du
     /// where the roughness is anisotropic (Mitsuba's convention), arbitrary otherwise.
+    #[inline]
     pub fn shading_frame(&self, surface: &SurfacePoint, bsdf: &Bsdf) -> Frame {
         if bsdf.is_anisotropic() {
             let (dpdu, _) = self.geometry.uv_derivatives(surface.prim, surface.position);
@@ -142,6 +149,7 @@ impl PathSlots<'_> {
     }
 
     /// Follows `direction` from `surface` with the throughput scaled by `weight`.
+    #[inline]
     pub fn scatter(&mut self, surface: &SurfacePoint, direction: Vec3, weight: Vec3) {
         *self.throughput *= weight;
         *self.origin = offset_ray_origin(surface.position, surface.geometric_normal, direction);
@@ -227,6 +235,32 @@ pub fn shade_live_paths(
                 ),
                 (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
             )| {
+                // Every field resliced to the block's length: the compiler then knows each
+                // index below is in bounds and drops the ten checks per path.
+                let m = hits.len();
+                let (
+                    origin,
+                    direction,
+                    vertex,
+                    throughput,
+                    radiance,
+                    depth,
+                    through,
+                    rng,
+                    pdf,
+                    alive,
+                ) = (
+                    &mut origin[..m],
+                    &mut direction[..m],
+                    &mut vertex[..m],
+                    &mut throughput[..m],
+                    &mut radiance[..m],
+                    &mut depth[..m],
+                    &mut through[..m],
+                    &mut rng[..m],
+                    &mut pdf[..m],
+                    &mut alive[..m],
+                );
                 for (i, hit) in hits.iter().enumerate() {
                     if !alive[i] {
                         continue;

@@ -43,6 +43,7 @@ pub enum Light {
 }
 
 impl Light {
+    #[inline]
     pub fn sample(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
         match self {
             Light::Point(light) => light.sample(p),
@@ -55,6 +56,7 @@ impl Light {
 
     /// `sample` for next-event estimation that MIS combines with BSDF sampling: the
     /// environment then samples its compensated distribution ([`Environment::sample_for_mis`]).
+    #[inline]
     pub fn sample_for_mis(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
         match self {
             Light::Environment(light) => light.sample_for_mis(u),
@@ -109,15 +111,11 @@ pub struct LightTable {
 impl LightTable {
     /// Picks a light by the table's selection weights, in O(1): (index, probability).
     pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
-        match self.lights.len() {
-            0 => None,
-            // The only light: no table lookup (its probability is the table's, 1 unless zero).
-            1 => Some((0, self.selection.pdf(0))),
-            _ => {
-                let (index, probability, _) = self.selection.sample(u);
-                Some((index, probability))
-            }
+        if self.lights.is_empty() {
+            return None;
         }
+        let (index, probability, _) = self.selection.sample(u);
+        Some((index, probability))
     }
 
     pub fn selection_probability(&self, index: usize) -> f32 {

@@ -164,7 +164,8 @@ pub struct PaintLobe {
 pub struct MaterialTable {
     pub materials: Vec<Material>,
     /// Per material, its BSDF when that is the same at every point (a scattering material
-    /// whose inputs are all constants), built once here rather than at every hit.
+    /// whose inputs are all constants, or a one-sided wrapper of one), built once here rather
+    /// than at every hit.
     fixed: Vec<Option<Bsdf>>,
 }
 
@@ -187,7 +188,22 @@ fn constant_bsdf(m: &Material) -> Option<Bsdf> {
 
 impl MaterialTable {
     pub fn new(materials: Vec<Material>) -> Self {
-        let fixed = materials.iter().map(constant_bsdf).collect();
+        let constant: Vec<Option<Bsdf>> = materials.iter().map(constant_bsdf).collect();
+        // A one-sided material scatters as the one it wraps (its side is checked apart, by
+        // `is_one_sided`); chains are followed as far as `bsdf_at` follows them.
+        let fixed = (0..materials.len())
+            .map(|mut id| {
+                for _ in 0..MAX_MIX_DEPTH {
+                    match materials[id] {
+                        Material::OneSided { material } if material < materials.len() => {
+                            id = material;
+                        }
+                        _ => return constant[id],
+                    }
+                }
+                None
+            })
+            .collect();
         Self { materials, fixed }
     }
 
@@ -235,6 +251,11 @@ impl MaterialTable {
         )
     }
 
+    /// The BSDF of material `id` when it is the same at every point (see `fixed`).
+    pub fn fixed_bsdf(&self, id: u32) -> Option<&Bsdf> {
+        self.fixed.get(id as usize)?.as_ref()
+    }
+
     /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
     /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one);
     /// `bump` is called with each bump map met on the way, outermost first, and may change the
@@ -251,10 +272,10 @@ impl MaterialTable {
             textures,
             read_texture: Cell::new(false),
         };
-        let mut id = id as usize;
-        if let Some(Some(bsdf)) = self.fixed.get(id) {
+        if let Some(bsdf) = self.fixed_bsdf(id) {
             return Some(*bsdf);
         }
+        let mut id = id as usize;
         for _ in 0..MAX_MIX_DEPTH {
             match self.materials.get(id)? {
                 Material::Mix {
@@ -530,7 +551,17 @@ mod tests {
                 amount: Color::Constant(Vec3::splat(0.5)),
             },
             Material::Null,
+            Material::OneSided { material: 0 },
+            Material::OneSided { material: 1 },
         ]);
+        // A one-sided wrapper lends its constant material's BSDF, and only a constant one.
+        let fixed_albedo = |id: u32| table.fixed_bsdf(id).map(|bsdf| bsdf.albedo().x);
+        assert_eq!(fixed_albedo(0), Some(0.25));
+        assert_eq!(fixed_albedo(4), Some(0.25));
+        assert_eq!(
+            (fixed_albedo(1), fixed_albedo(2), fixed_albedo(5)),
+            (None, None, None)
+        );
         let albedo = |id: u32, choice: f32| {
             let mut point = ShadingPoint {
                 p: Vec3::ONE,
@@ -547,5 +578,7 @@ mod tests {
         assert_eq!(albedo(2, 0.25), Some(0.75));
         assert_eq!(albedo(2, 0.75), Some(0.25));
         assert_eq!(albedo(3, 0.5), None);
+        assert_eq!(albedo(4, 0.5), Some(0.25));
+        assert_eq!(albedo(5, 0.5), Some(0.75));
     }
 }

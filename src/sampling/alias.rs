@@ -97,22 +97,30 @@ impl AliasTable {
         } else {
             u.clamp(0.0, ONE_MINUS_EPSILON)
         };
-        let n = self.bins.len();
+        // One bin (one light, one triangle) is the choice, and u is already uniform: what the
+        // general case below gives (bin 0, frac u, threshold 1), without its arithmetic.
+        if let [only] = self.bins.as_slice() {
+            return (0, only.probability, u);
+        }
+        // Bin numbers in u32 (the table holds at most u32::MAX bins: `alias` is a u32): the
+        // conversions between f32 and u32 are a single instruction each, those with usize a
+        // dozen (x86-64 has no unsigned 64-bit conversion).
+        let n = self.bins.len() as u32;
         let scaled = u * n as f32;
-        let bin = (scaled as usize).min(n - 1);
+        let bin = (scaled as u32).min(n - 1);
         let frac = (scaled - bin as f32).clamp(0.0, ONE_MINUS_EPSILON);
-        let entry = &self.bins[bin];
+        let entry = &self.bins[bin as usize];
         let (index, remapped) = if frac < entry.threshold {
             (bin, frac / entry.threshold)
         } else {
             (
-                entry.alias as usize,
+                entry.alias,
                 (frac - entry.threshold) / (1.0 - entry.threshold),
             )
         };
         (
-            index,
-            self.bins[index].probability,
+            index as usize,
+            self.bins[index as usize].probability,
             remapped.clamp(0.0, ONE_MINUS_EPSILON),
         )
     }
@@ -166,6 +174,10 @@ mod tests {
             for u in [0.0, 0.3, 0.99999994, 1.0, -1.0, f32::NAN] {
                 let (i, p, r) = table.sample(u);
                 assert!(i < n && (p - 1.0 / n as f32).abs() < 1e-6 && (0.0..1.0).contains(&r));
+                // One bin hands u on unchanged (clamped into [0, 1)).
+                if n == 1 && (0.0..1.0).contains(&u) {
+                    assert_eq!(r, u);
+                }
             }
         }
         let table = AliasTable::new(&[f32::MAX, f32::MAX, 0.0]);

@@ -35,6 +35,7 @@ fn sin_cos_eighth_turn(x: f32) -> (f32, f32) {
 
 /// Malley's method: a uniform disk point lifted to the hemisphere (z up) has density
 /// cos(theta) / pi in solid angle.
+#[inline]
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
     let d = concentric_disk(u);
     Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())

@@ -4,7 +4,7 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::geometry::SceneGeometry;
+use super::geometry::{SceneGeometry, face_normal};
 use crate::accel::{Hit, PrimitiveRef};
 
 #[derive(Clone, Copy, Debug)]
@@ -31,9 +31,8 @@ impl SceneGeometry {
             PrimitiveRef::Triangle(i) => self.triangle_surface(i, hit.u, hit.v),
             // Instanced meshes keep neither normals nor uvs (yet): flat, with barycentric uvs.
             PrimitiveRef::InstanceTriangle { .. } => {
-                let [p0, p1, p2] =
-                    (self.world_triangle(kind)).expect("instance ids name triangles");
-                let ng = (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z);
+                let ng =
+                    face_normal(&(self.world_triangle(kind)).expect("instance ids name triangles"));
                 (ng, ng, Vec2::new(hit.u, hit.v))
             }
             PrimitiveRef::Sphere(i) => self.sphere_surface(i, position),
@@ -62,8 +61,7 @@ impl SceneGeometry {
     }
 
     fn triangle_surface(&self, i: usize, u: f32, v: f32) -> (Vec3, Vec3, Vec2) {
-        let [p0, p1, p2] = self.triangles[i];
-        let ng = (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z);
+        let ng = self.face_normals[i];
         let w = 1.0 - u - v;
         let ns = match self.triangle_normals.get(i) {
             Some([n0, n1, n2]) => {

@@ -13,6 +13,7 @@ use super::{emitters, materials};
 use crate::scene::desc::{Geometry, SceneError, SceneWarning, ShapeDesc};
 use crate::scene::io::ply;
 use crate::scene::io::{TriangleMesh, obj, serialized};
+use crate::shape::normals_follow_faces;
 
 /// Segments around a disk or a cylinder: the area is short by (2 pi / n)^2 / 6, 0.004 %.
 const SEGMENTS: usize = 256;
@@ -227,22 +228,15 @@ fn shape_group(cx: &mut Converter, group: &Object) -> Result<usize, SceneError> 
 
 /// Whether a mesh's vertex normals differ from its faces' (instances keep face normals only).
 fn has_smooth_normals(geometry: &Geometry) -> bool {
-    let Geometry::TriangleMesh {
-        positions,
-        normals: Some(normals),
-        indices,
-        ..
-    } = geometry
-    else {
-        return false;
-    };
-    indices.iter().any(|&[a, b, c]| {
-        let p = |i: u32| positions[i as usize];
-        let face = (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero();
-        [a, b, c]
-            .iter()
-            .any(|&i| normals[i as usize].normalize_or_zero().dot(face) < 0.999)
-    })
+    match geometry {
+        Geometry::TriangleMesh {
+            positions,
+            normals: Some(normals),
+            indices,
+            ..
+        } => !normals_follow_faces(positions, normals, indices, 0.999),
+        _ => false,
+    }
 }
 
 fn ply_mesh(path: &std::path::Path) -> Result<TriangleMesh, String> {
