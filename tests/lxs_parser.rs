@@ -655,6 +655,31 @@ fn constant_procedural_and_unsupported_textures() {
     );
 }
 
+/// LuxRender 1.x's `dots` hands `inside` and `outside` to a constructor that stores them the
+/// other way round (`textures/dots.h`: `DotsTexture(m, c1, c2)` sets `outsideDot = c1`, and
+/// is called with `inside` first), so the dots show `outside` and the ground `inside`.
+#[test]
+fn dots_show_luxrenders_swapped_inside_and_outside() {
+    let s = scene(
+        "dots",
+        "WorldBegin\n\
+         Texture \"d\" \"color\" \"dots\" \"color inside\" [1 0 0] \"color outside\" [0 0 1]\n\
+         Texture \"e\" \"float\" \"dots\"\nWorldEnd\n",
+    );
+    let dots = |i: usize| match &s.texture_graph.nodes[i] {
+        TextureNode::Dots {
+            inside, outside, ..
+        } => (*inside, *outside),
+        other => panic!("not dots: {other:?}"),
+    };
+    assert_eq!(
+        dots(0),
+        (TexParam::Value(Vec3::Z), TexParam::Value(Vec3::X))
+    );
+    // The defaults (inside 1, outside 0) give dots of 0 on a ground of 1.
+    assert_eq!(dots(1), (TexParam::float(0.0), TexParam::float(1.0)));
+}
+
 // ---------------------------------------------------------------- shapes
 
 #[test]
@@ -892,6 +917,26 @@ fn area_light_applies_to_following_shapes_in_its_block() {
     assert_eq!(s.shapes[2].area_light, None);
     assert!(s.lights.is_empty());
     assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+}
+
+/// LuxRender 1.x's area light defaults to `power` 100 W and `efficacy` 17 lm/W
+/// (`lights/area.cpp`, `CreateAreaLight`), so a light written without them is normalised to
+/// 1700 lm as well; `power` 0 turns the normalisation off.
+#[test]
+fn area_light_without_power_gets_luxrenders_default_flux() {
+    let s = scene(
+        "area_default",
+        "WorldBegin\nAttributeBegin\n\
+         AreaLightSource \"area\" \"color L\" [1 0.5 0.25] \"float gain\" [30]\n\
+         Shape \"sphere\" \"float radius\" [2]\nAttributeEnd\n\
+         AttributeBegin\nAreaLightSource \"area\" \"color L\" [1 0.5 0.25] \"float power\" [0]\n\
+         Shape \"sphere\"\nAttributeEnd\nWorldEnd\n",
+    );
+    let l = Vec3::new(1.0, 0.5, 0.25);
+    let expected = luxrender_area_radiance(l, 30.0, 100.0, 17.0, 4.0 * PI64 * 4.0);
+    let radiance = s.shapes[0].area_light.expect("an emitter").radiance;
+    assert!(close_rel(radiance, expected), "{radiance} {expected}");
+    assert_eq!(s.shapes[1].area_light.expect("an emitter").radiance, l);
 }
 
 // ---------------------------------------------------------------- includes and paths

@@ -73,7 +73,8 @@ pub enum TextureNode {
         tex1: TexParam,
         tex2: TexParam,
     },
-    /// `dots`: `inside` (default 1) within the dots, `outside` (0) elsewhere.
+    /// `dots`: `inside` within the dots, `outside` elsewhere (LuxRender's parameters arrive
+    /// swapped: see `scene::lxs::textures`).
     Dots {
         mapping: Mapping2D,
         inside: TexParam,

@@ -53,9 +53,14 @@ impl Parser {
                     }
                 }
             }
+            // LuxRender 1.x passes `inside` and `outside` to `DotsTexture(mapping, c1, c2)`,
+            // whose constructor stores them as `outsideDot = c1, insideDot = c2`
+            // (`textures/dots.h`, inherited from pbrt-v1's `dots.cpp`): the dots show
+            // `outside` and the ground between them `inside`. Scenes are made to look right
+            // in LuxRender, so foton keeps the swap.
             "dots" => TextureNode::Dots {
-                inside: self.tex_param(params, "inside", 1.0, line)?,
-                outside: self.tex_param(params, "outside", 0.0, line)?,
+                inside: self.tex_param(params, "outside", 0.0, line)?,
+                outside: self.tex_param(params, "inside", 1.0, line)?,
                 mapping: self.mapping_2d(params, line)?,
             },
             "bilerp" => {
