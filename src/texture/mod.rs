@@ -359,6 +359,11 @@ mod tests {
         );
         let w = noise::fbm(0.1 * p, 0.5, 3).abs() * noise::fbm(p, 0.5, 6);
         assert_eq!(g.eval_float(TexParam::Texture(windy), &sp, &no_images), w);
+        // LuxRender's `WindyTexture::Evaluate` (`textures/windy.h`) at (2.5, -1.25, 7.75), from
+        // an independent float64 transcription (Python) of it and `FBm`: 0.0519371.
+        let q = at(Vec3::new(2.5, -1.25, 7.75), Vec2::ZERO);
+        let w = g.eval_float(TexParam::Texture(windy), &q, &no_images);
+        assert!((w - 0.051_937_05).abs() < 1e-6, "{w}");
         // A node naming itself (only a malformed graph does) evaluates to black, not forever.
         let cycle = g.push(TextureNode::Scale {
             tex1: TexParam::Texture(3),
