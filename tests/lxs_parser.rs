@@ -680,6 +680,75 @@ fn dots_show_luxrenders_swapped_inside_and_outside() {
     assert_eq!(dots(1), (TexParam::float(0.0), TexParam::float(1.0)));
 }
 
+/// The Blender procedurals without a noise basis are graph nodes with LuxRender 1.x's names
+/// and defaults (`textures/blender_*.h`); wood's noisy types stay grey stand-ins, warned; an
+/// unknown type name is warned and read as the default, as LuxRender does.
+#[test]
+fn blender_textures_without_noise_bases() {
+    let s = scene(
+        "blender",
+        "WorldBegin\n\
+         Texture \"b\" \"float\" \"blender_blend\" \"string type\" [\"quad\"] \"bool flipxy\" [\"true\"] \"float bright\" [1.2]\n\
+         Texture \"m\" \"float\" \"blender_magic\" \"integer noisedepth\" [3] \"float turbulence\" [4]\n\
+         Texture \"w\" \"float\" \"blender_wood\" \"string type\" [\"rings\"] \"string noisebasis2\" [\"saw\"]\n\
+         \"string noisebasis\" [\"blender_original\"] \"float noisesize\" [0.25] \"float turbulence\" [5]\n\
+         Texture \"x\" \"float\" \"blender_blend\" \"string type\" [\"spiral\"] \"float tex1\" [0.2]\n\
+         Texture \"n\" \"float\" \"blender_wood\" \"string type\" [\"ringnoise\"]\n\
+         WorldEnd\n",
+    );
+    use foton::texture::blender::{BlendKind, BlenderPattern, Waveform};
+    let node = |i: usize| match &s.texture_graph.nodes[i] {
+        TextureNode::Blender {
+            texture,
+            tex1,
+            tex2,
+            ..
+        } => (*texture, *tex1, *tex2),
+        other => panic!("not a Blender texture: {other:?}"),
+    };
+    let (b, tex1, tex2) = node(0);
+    assert_eq!(
+        b.pattern,
+        BlenderPattern::Blend {
+            kind: BlendKind::Quadratic,
+            flip_xy: true
+        }
+    );
+    assert_eq!((b.bright, b.contrast), (1.2, 1.0));
+    assert_eq!((tex1, tex2), (TexParam::float(0.0), TexParam::float(1.0)));
+    assert_eq!(
+        node(1).0.pattern,
+        BlenderPattern::Magic {
+            depth: 3,
+            turbulence: 4.0
+        }
+    );
+    assert_eq!(
+        node(2).0.pattern,
+        BlenderPattern::Wood {
+            rings: true,
+            wave: Waveform::Saw
+        }
+    );
+    let (x, tex1, _) = node(3);
+    assert_eq!(
+        x.pattern,
+        BlenderPattern::Blend {
+            kind: BlendKind::Linear,
+            flip_xy: false
+        }
+    );
+    assert_eq!(tex1, TexParam::float(0.2));
+    assert_eq!(s.texture_graph.nodes.len(), 4);
+    let w = messages(&s);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains("\"type\" \"spiral\" unknown: \"lin\""),
+        "{w:?}"
+    );
+    assert!(w[1].contains("class \"blender_wood\" unsupported"), "{w:?}");
+}
+
 // ---------------------------------------------------------------- shapes
 
 #[test]

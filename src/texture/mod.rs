@@ -8,6 +8,7 @@
 //! [`TextureNode::Image`] with a lookup function supplied by the caller).
 
 pub mod blackbody;
+pub mod blender;
 pub mod checkerboard;
 pub mod dots;
 pub mod harlequin;
@@ -108,6 +109,15 @@ pub enum TextureNode {
     Blackbody { rgb: Vec3 },
     /// `harlequin`: a colour per object.
     Harlequin,
+    /// The Blender procedurals without a noise basis (`blender_blend`, `blender_magic`,
+    /// `blender_wood` bands and rings): (1 - f) `tex1` + f `tex2` (defaults 0, 1) of the
+    /// pattern's intensity f.
+    Blender {
+        mapping: Mapping3D,
+        texture: blender::BlenderTexture,
+        tex1: TexParam,
+        tex2: TexParam,
+    },
 }
 
 impl TextureNode {
@@ -231,6 +241,15 @@ impl TextureGraph {
             } => marble::marble(mapping.map(sp), *octaves, *roughness, *scale, *variation),
             TextureNode::Blackbody { rgb } => *rgb,
             TextureNode::Harlequin => harlequin::harlequin(sp.object),
+            TextureNode::Blender {
+                mapping,
+                texture,
+                tex1,
+                tex2,
+            } => {
+                let f = texture.intensity(mapping.map(sp));
+                sub(*tex1) * (1.0 - f) + sub(*tex2) * f
+            }
         };
         if v.is_finite() { v } else { Vec3::ZERO }
     }
