@@ -194,6 +194,7 @@ fn bumpmapping_looks_like_luxrenders_render() {
 /// orthographic camera, a sphere light and a dim environment. It rests on the sphere light's
 /// default 100 W x 17 lm/W (without it the sky drowns the light's shadows) and on `dots`'
 /// swapped `inside`/`outside`.
+/// Measured (200x300, 16 spp): correlation 0.999 (mirrored 0.109), brightness 1.015x.
 #[test]
 fn texture_examples_looks_like_luxrenders_render() {
     if let Some(agreement) = compare_with_luxrender(
