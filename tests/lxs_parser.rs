@@ -655,6 +655,100 @@ fn constant_procedural_and_unsupported_textures() {
     );
 }
 
+/// LuxRender 1.x's `dots` hands `inside` and `outside` to a constructor that stores them the
+/// other way round (`textures/dots.h`: `DotsTexture(m, c1, c2)` sets `outsideDot = c1`, and
+/// is called with `inside` first), so the dots show `outside` and the ground `inside`.
+#[test]
+fn dots_show_luxrenders_swapped_inside_and_outside() {
+    let s = scene(
+        "dots",
+        "WorldBegin\n\
+         Texture \"d\" \"color\" \"dots\" \"color inside\" [1 0 0] \"color outside\" [0 0 1]\n\
+         Texture \"e\" \"float\" \"dots\"\nWorldEnd\n",
+    );
+    let dots = |i: usize| match &s.texture_graph.nodes[i] {
+        TextureNode::Dots {
+            inside, outside, ..
+        } => (*inside, *outside),
+        other => panic!("not dots: {other:?}"),
+    };
+    assert_eq!(
+        dots(0),
+        (TexParam::Value(Vec3::Z), TexParam::Value(Vec3::X))
+    );
+    // The defaults (inside 1, outside 0) give dots of 0 on a ground of 1.
+    assert_eq!(dots(1), (TexParam::float(0.0), TexParam::float(1.0)));
+}
+
+/// The Blender procedurals without a noise basis are graph nodes with LuxRender 1.x's names
+/// and defaults (`textures/blender_*.h`); wood's noisy types stay grey stand-ins, warned; an
+/// unknown type name is warned and read as the default, as LuxRender does.
+#[test]
+fn blender_textures_without_noise_bases() {
+    let s = scene(
+        "blender",
+        "WorldBegin\n\
+         Texture \"b\" \"float\" \"blender_blend\" \"string type\" [\"quad\"] \"bool flipxy\" [\"true\"] \"float bright\" [1.2]\n\
+         Texture \"m\" \"float\" \"blender_magic\" \"integer noisedepth\" [3] \"float turbulence\" [4]\n\
+         Texture \"w\" \"float\" \"blender_wood\" \"string type\" [\"rings\"] \"string noisebasis2\" [\"saw\"]\n\
+         \"string noisebasis\" [\"blender_original\"] \"float noisesize\" [0.25] \"float turbulence\" [5]\n\
+         Texture \"x\" \"float\" \"blender_blend\" \"string type\" [\"spiral\"] \"float tex1\" [0.2]\n\
+         Texture \"n\" \"float\" \"blender_wood\" \"string type\" [\"ringnoise\"]\n\
+         WorldEnd\n",
+    );
+    use foton::texture::blender::{BlendKind, BlenderPattern, Waveform};
+    let node = |i: usize| match &s.texture_graph.nodes[i] {
+        TextureNode::Blender {
+            texture,
+            tex1,
+            tex2,
+            ..
+        } => (*texture, *tex1, *tex2),
+        other => panic!("not a Blender texture: {other:?}"),
+    };
+    let (b, tex1, tex2) = node(0);
+    assert_eq!(
+        b.pattern,
+        BlenderPattern::Blend {
+            kind: BlendKind::Quadratic,
+            flip_xy: true
+        }
+    );
+    assert_eq!((b.bright, b.contrast), (1.2, 1.0));
+    assert_eq!((tex1, tex2), (TexParam::float(0.0), TexParam::float(1.0)));
+    assert_eq!(
+        node(1).0.pattern,
+        BlenderPattern::Magic {
+            depth: 3,
+            turbulence: 4.0
+        }
+    );
+    assert_eq!(
+        node(2).0.pattern,
+        BlenderPattern::Wood {
+            rings: true,
+            wave: Waveform::Saw
+        }
+    );
+    let (x, tex1, _) = node(3);
+    assert_eq!(
+        x.pattern,
+        BlenderPattern::Blend {
+            kind: BlendKind::Linear,
+            flip_xy: false
+        }
+    );
+    assert_eq!(tex1, TexParam::float(0.2));
+    assert_eq!(s.texture_graph.nodes.len(), 4);
+    let w = messages(&s);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains("\"type\" \"spiral\" unknown: \"lin\""),
+        "{w:?}"
+    );
+    assert!(w[1].contains("class \"blender_wood\" unsupported"), "{w:?}");
+}
+
 // ---------------------------------------------------------------- shapes
 
 #[test]
@@ -892,6 +986,26 @@ fn area_light_applies_to_following_shapes_in_its_block() {
     assert_eq!(s.shapes[2].area_light, None);
     assert!(s.lights.is_empty());
     assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+}
+
+/// LuxRender 1.x's area light defaults to `power` 100 W and `efficacy` 17 lm/W
+/// (`lights/area.cpp`, `CreateAreaLight`), so a light written without them is normalised to
+/// 1700 lm as well; `power` 0 turns the normalisation off.
+#[test]
+fn area_light_without_power_gets_luxrenders_default_flux() {
+    let s = scene(
+        "area_default",
+        "WorldBegin\nAttributeBegin\n\
+         AreaLightSource \"area\" \"color L\" [1 0.5 0.25] \"float gain\" [30]\n\
+         Shape \"sphere\" \"float radius\" [2]\nAttributeEnd\n\
+         AttributeBegin\nAreaLightSource \"area\" \"color L\" [1 0.5 0.25] \"float power\" [0]\n\
+         Shape \"sphere\"\nAttributeEnd\nWorldEnd\n",
+    );
+    let l = Vec3::new(1.0, 0.5, 0.25);
+    let expected = luxrender_area_radiance(l, 30.0, 100.0, 17.0, 4.0 * PI64 * 4.0);
+    let radiance = s.shapes[0].area_light.expect("an emitter").radiance;
+    assert!(close_rel(radiance, expected), "{radiance} {expected}");
+    assert_eq!(s.shapes[1].area_light.expect("an emitter").radiance, l);
 }
 
 // ---------------------------------------------------------------- includes and paths

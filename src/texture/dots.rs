@@ -23,6 +23,23 @@ pub fn inside_dot(st: Vec2) -> bool {
 mod tests {
     use super::*;
 
+    /// LuxRender's jitter (`textures/dots.h`) in cell (2, 3): noise(2.5, 3.5, 0.5) = 3/8 > 0
+    /// (the mean of that cell centre's corner terms), so the cell has a dot; its centre is
+    /// (2 + 0.15 noise(3.5, 5.8, 0.5), 3 + 0.15 noise(6.5, 12.8, 0.5)) = (2.050922, 2.901082),
+    /// the two noises (0.33948, -0.659456) from an independent float64 transcription (Python)
+    /// of LuxRender's `Noise`. The disc of radius 0.35 about it: in at 0.34 and 0.345 from the
+    /// centre, out at 0.355 and 0.36.
+    #[test]
+    fn dot_centre_is_luxrenders_jittered_centre() {
+        let centre = Vec2::new(2.050_922, 2.901_081_6);
+        assert!(inside_dot(centre + Vec2::new(0.34, 0.0)));
+        assert!(!inside_dot(centre + Vec2::new(0.36, 0.0)));
+        assert!(inside_dot(centre - Vec2::new(0.0, 0.345)));
+        assert!(!inside_dot(centre - Vec2::new(0.0, 0.355)));
+        // Cell (0, 0) has no dot: noise at its centre is -1/8.
+        assert!(!inside_dot(Vec2::ZERO));
+    }
+
     /// Each dot is a disc of radius 0.35 within its cell: the area inside dots over many cells
     /// is pi 0.35^2 times the fraction of cells with a dot, and a cell's centre is inside its
     /// dot exactly when the cell has one (the shift, at most 0.15 per axis, is below 0.35).

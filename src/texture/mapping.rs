@@ -88,12 +88,16 @@ pub enum Mapping3D {
 }
 
 impl Mapping3D {
-    /// The world-to-texture transform of LuxRender's `Apply3DTextureMappingOptions`: the inverse
-    /// of the transform current at the `Texture` directive, then scaled by 1 / `scale`, rotated
-    /// by `rotate` (degrees about x, then y, then z, composed on the right as LuxRender does),
-    /// and translated by -`translate`. A zero scale component is replaced by 1.
+    /// The world-to-texture transform of LuxRender's 3D mappings: the transform current at the
+    /// `Texture` directive, *not* inverted (LuxRender 1.x's `Context::Texture` passes
+    /// `curTransform` as `tex2world`, and `TextureMapping3D(const Transform &x)` stores it as
+    /// `WorldToTexture` unchanged, as pbrt-v1 did; only the 2D spherical and cylindrical
+    /// mappings invert it), then `Apply3DTextureMappingOptions` (`core/texture.cpp`): times
+    /// Scale(1 / `scale`), RotateX, RotateY, RotateZ (`rotate`, degrees) and
+    /// Translate(-`translate`), each composed on the right, so a point is translated first and
+    /// the CTM applies last. A zero scale component is replaced by 1.
     pub fn world_to_texture(
-        texture_to_world: Affine3A,
+        ctm: Affine3A,
         scale: Vec3,
         rotate_degrees: Vec3,
         translate: Vec3,
@@ -106,8 +110,7 @@ impl Mapping3D {
         );
         let r = rotate_degrees * (PI / 180.0);
         let rotation = Quat::from_euler(EulerRot::XYZ, r.x, r.y, r.z);
-        texture_to_world.inverse()
-            * Affine3A::from_scale(inv_scale)
+        ctm * Affine3A::from_scale(inv_scale)
             * Affine3A::from_quat(rotation)
             * Affine3A::from_translation(-translate)
     }
@@ -179,11 +182,11 @@ mod tests {
     #[test]
     fn mapping_3d_options() {
         // A texture declared under Translate 1 0 0, with scale 0.5 and translate (0, 2, 0):
-        // W2T = inverse(tex2world) * Scale(1/s) * Translate(-t), applied right to left, maps
-        // q to 2 (q - (0, 2, 0)) - (1, 0, 0).
-        let tex_to_world = Affine3A::from_translation(Vec3::X);
+        // LuxRender's W2T = CTM * Scale(1/s) * Translate(-t), applied right to left, maps
+        // q to 2 (q - (0, 2, 0)) + (1, 0, 0): the CTM is not inverted.
+        let ctm = Affine3A::from_translation(Vec3::X);
         let w2t = Mapping3D::world_to_texture(
-            tex_to_world,
+            ctm,
             Vec3::splat(0.5),
             Vec3::ZERO,
             Vec3::new(0.0, 2.0, 0.0),
@@ -192,7 +195,7 @@ mod tests {
             world_to_texture: w2t,
         };
         let q = Vec3::new(3.0, 4.0, 5.0);
-        let expected = ((q - Vec3::new(0.0, 2.0, 0.0)) * 2.0) - Vec3::X;
+        let expected = ((q - Vec3::new(0.0, 2.0, 0.0)) * 2.0) + Vec3::X;
         assert!((m.map(&at(q, Vec2::ZERO)) - expected).length() < 1e-5);
         // A 90 degree rotation about z turns x into y.
         let rot = Mapping3D::world_to_texture(
@@ -202,6 +205,15 @@ mod tests {
             Vec3::ZERO,
         );
         assert!((rot.transform_point3(Vec3::X) - Vec3::Y).length() < 1e-6);
+        // RotateX(90) * RotateZ(90): z first (x to y), then x (y to z); the other order would
+        // leave x on y.
+        let rot = Mapping3D::world_to_texture(
+            Affine3A::IDENTITY,
+            Vec3::ONE,
+            Vec3::new(90.0, 0.0, 90.0),
+            Vec3::ZERO,
+        );
+        assert!((rot.transform_point3(Vec3::X) - Vec3::Z).length() < 1e-6);
         let uv = Mapping3D::Uv {
             world_to_texture: Affine3A::IDENTITY,
         };

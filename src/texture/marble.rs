@@ -59,6 +59,20 @@ mod tests {
         assert!((spline(4.5 / 6.0) - mid).length() < 1e-6);
     }
 
+    /// LuxRender 1.x's `MarbleTexture::Evaluate` (`textures/marble.h`) at two points, from an
+    /// independent float64 transcription (Python) of it and of `FBm`: t = 1/2 + sin(scale y +
+    /// variation FBm(scale p, roughness, octaves)) / 2, the Bezier segment Floor(6 t), times 1.5.
+    #[test]
+    fn marble_matches_luxrenders_formula() {
+        let a = marble(Vec3::new(0.4, 2.0, -1.3), 8, 0.5, 1.0, 0.2);
+        let expected = Vec3::new(0.619_555_4, 0.619_555_4, 0.722_052_5);
+        assert!((a - expected).abs().max_element() < 1e-5, "{a}");
+        // texture-examples' marble: roughness 1, scale 0.1.
+        let b = marble(Vec3::new(3.1, -7.5, 2.2), 8, 1.0, 0.1, 0.2);
+        let expected = Vec3::new(0.755_536_8, 0.755_536_8, 0.756_921);
+        assert!((b - expected).abs().max_element() < 1e-5, "{b}");
+    }
+
     #[test]
     fn marble_without_variation_is_bands_along_y() {
         // variation 0: t = 1/2 + sin(scale y) / 2; y = 0 gives t = 1/2, y = pi/2 gives t = 1.

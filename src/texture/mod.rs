@@ -8,6 +8,7 @@
 //! [`TextureNode::Image`] with a lookup function supplied by the caller).
 
 pub mod blackbody;
+pub mod blender;
 pub mod checkerboard;
 pub mod dots;
 pub mod harlequin;
@@ -73,7 +74,8 @@ pub enum TextureNode {
         tex1: TexParam,
         tex2: TexParam,
     },
-    /// `dots`: `inside` (default 1) within the dots, `outside` (0) elsewhere.
+    /// `dots`: `inside` within the dots, `outside` elsewhere (LuxRender's parameters arrive
+    /// swapped: see `scene::lxs::textures`).
     Dots {
         mapping: Mapping2D,
         inside: TexParam,
@@ -107,6 +109,15 @@ pub enum TextureNode {
     Blackbody { rgb: Vec3 },
     /// `harlequin`: a colour per object.
     Harlequin,
+    /// The Blender procedurals without a noise basis (`blender_blend`, `blender_magic`,
+    /// `blender_wood` bands and rings): (1 - f) `tex1` + f `tex2` (defaults 0, 1) of the
+    /// pattern's intensity f.
+    Blender {
+        mapping: Mapping3D,
+        texture: blender::BlenderTexture,
+        tex1: TexParam,
+        tex2: TexParam,
+    },
 }
 
 impl TextureNode {
@@ -230,6 +241,15 @@ impl TextureGraph {
             } => marble::marble(mapping.map(sp), *octaves, *roughness, *scale, *variation),
             TextureNode::Blackbody { rgb } => *rgb,
             TextureNode::Harlequin => harlequin::harlequin(sp.object),
+            TextureNode::Blender {
+                mapping,
+                texture,
+                tex1,
+                tex2,
+            } => {
+                let f = texture.intensity(mapping.map(sp));
+                sub(*tex1) * (1.0 - f) + sub(*tex2) * f
+            }
         };
         if v.is_finite() { v } else { Vec3::ZERO }
     }
@@ -358,6 +378,11 @@ mod tests {
         );
         let w = noise::fbm(0.1 * p, 0.5, 3).abs() * noise::fbm(p, 0.5, 6);
         assert_eq!(g.eval_float(TexParam::Texture(windy), &sp, &no_images), w);
+        // LuxRender's `WindyTexture::Evaluate` (`textures/windy.h`) at (2.5, -1.25, 7.75), from
+        // an independent float64 transcription (Python) of it and `FBm`: 0.0519371.
+        let q = at(Vec3::new(2.5, -1.25, 7.75), Vec2::ZERO);
+        let w = g.eval_float(TexParam::Texture(windy), &q, &no_images);
+        assert!((w - 0.051_937_05).abs() < 1e-6, "{w}");
         // A node naming itself (only a malformed graph does) evaluates to black, not forever.
         let cycle = g.push(TextureNode::Scale {
             tex1: TexParam::Texture(3),

@@ -159,6 +159,44 @@ mod tests {
         assert_eq!(noise(Vec3::NAN), 0.0);
     }
 
+    /// At a cell's centre every blend weight is 1/2, so the noise is the mean of the eight
+    /// corner terms +-u +-v, each offset component +-1/2. In the cell at the origin the
+    /// corners' hashes P[P[P[x] + y] + z] & 15 through LuxRender's table are, for
+    /// (x, y, z) = 000, 100, 010, 110, 001, 101, 011, 111: 4, 6, 12, 0, 7, 4, 14, 3, giving
+    /// dx + dz = 1, -dx + dz = -1, dx + dy = 0, -dx - dy = -1, -dx - dz = 0, dx - dz = -1,
+    /// -dy + dz = 0 and -dx - dy = 1: a mean of -1/8.
+    #[test]
+    fn noise_at_a_cell_centre_is_the_mean_of_its_corner_gradients() {
+        assert_eq!(noise(Vec3::splat(0.5)), -0.125);
+        // The centre of cell (2, 3, 0), by the same rule: 3/8 (the dots texture reads it).
+        assert_eq!(noise(Vec3::new(2.5, 3.5, 0.5)), 0.375);
+    }
+
+    /// Values of LuxRender 1.x's `Noise`, `FBm` and `Turbulence` (`core/texture.cpp`, all
+    /// octaves kept) off the lattice, from an independent float64 transcription of those
+    /// functions (Python, not foton's code); f32 rounding allows 1e-5.
+    #[test]
+    fn noise_and_octave_sums_match_luxrenders_formulas() {
+        let close = |a: f32, b: f64| (f64::from(a) - b).abs() < 1e-5;
+        let p = Vec3::new(0.3, 1.7, -2.2);
+        assert!(close(noise(p), -0.473_803_163_85), "{}", noise(p));
+        let q = Vec3::new(10.25, -3.75, 0.5);
+        assert!(close(noise(q), 0.186_642_169_95), "{}", noise(q));
+        assert!(
+            close(fbm(p, 0.5, 8), -0.572_996_009_93),
+            "{}",
+            fbm(p, 0.5, 8)
+        );
+        // Roughness 1 keeps the finest octave (lambda = 1.99^7, points near 360) at full weight:
+        // there an f32 ulp of the point is 3e-5 and the noise's slope up to about 2, so f32
+        // (LuxRender's precision too) may differ from float64 by 1e-4.
+        let r = Vec3::new(1.1, 2.9, 0.4);
+        let f = fbm(r, 1.0, 8);
+        assert!((f64::from(f) - 1.277_768_666_77).abs() < 1e-4, "{f}");
+        let t = turbulence(p, 0.5, 8);
+        assert!(close(t, 0.711_215_660_40), "{t}");
+    }
+
     #[test]
     fn octave_sums() {
         let p = Vec3::new(0.3, 1.7, -2.2);

@@ -238,8 +238,10 @@ impl Parser {
         self.state.area_light = Some(AreaLight {
             l: self.light_color(params, line)?,
             gain: params.float("gain")?.unwrap_or(1.0),
-            power: params.float("power")?.unwrap_or(0.0),
-            efficacy: params.float("efficacy")?.unwrap_or(0.0),
+            // LuxRender 1.x's defaults (`lights/area.cpp`, `CreateAreaLight`): 100 W at
+            // 17 lm/W, so an area light without `power` is normalised to 1700 lm too.
+            power: params.float("power")?.unwrap_or(100.0),
+            efficacy: params.float("efficacy")?.unwrap_or(17.0),
         });
         Ok(())
     }

@@ -7,6 +7,7 @@ use glam::{Affine3A, Vec2, Vec3};
 use super::params::ParamList;
 use super::parser::Parser;
 use crate::scene::desc::{ColorParam, SceneError};
+use crate::texture::blender::{BlendKind, BlenderPattern, BlenderTexture, Waveform};
 use crate::texture::{Mapping2D, Mapping3D, TexParam, TextureNode};
 
 impl Parser {
@@ -53,9 +54,14 @@ impl Parser {
                     }
                 }
             }
+            // LuxRender 1.x passes `inside` and `outside` to `DotsTexture(mapping, c1, c2)`,
+            // whose constructor stores them as `outsideDot = c1, insideDot = c2`
+            // (`textures/dots.h`, inherited from pbrt-v1's `dots.cpp`): the dots show
+            // `outside` and the ground between them `inside`. Scenes are made to look right
+            // in LuxRender, so foton keeps the swap.
             "dots" => TextureNode::Dots {
-                inside: self.tex_param(params, "inside", 1.0, line)?,
-                outside: self.tex_param(params, "outside", 0.0, line)?,
+                inside: self.tex_param(params, "outside", 0.0, line)?,
+                outside: self.tex_param(params, "inside", 1.0, line)?,
                 mapping: self.mapping_2d(params, line)?,
             },
             "bilerp" => {
@@ -107,7 +113,88 @@ impl Parser {
             },
             "blackbody" => TextureNode::blackbody(params.float("temperature")?.unwrap_or(6500.0)),
             "harlequin" => TextureNode::Harlequin,
+            "blender_blend" | "blender_magic" | "blender_wood" => {
+                let Some(pattern) = self.blender_pattern(class, line, params)? else {
+                    return Ok(None);
+                };
+                TextureNode::Blender {
+                    texture: BlenderTexture {
+                        pattern,
+                        bright: params.float("bright")?.unwrap_or(1.0),
+                        contrast: params.float("contrast")?.unwrap_or(1.0),
+                    },
+                    tex1: self.tex_param(params, "tex1", 0.0, line)?,
+                    tex2: self.tex_param(params, "tex2", 1.0, line)?,
+                    mapping: self.mapping_3d(params, line, true)?,
+                }
+            }
             _ => return Ok(None),
+        }))
+    }
+
+    /// The pattern of a Blender texture that needs no noise basis, with LuxRender 1.x's
+    /// parameter names and defaults (`textures/blender_blend.h`, `blender_magic.h`,
+    /// `blender_wood.h`, `blender_base.cpp` for the names of the types); `None` for wood's
+    /// noisy types, which need Blender's noise bases. An unknown type name is warned and read
+    /// as the default, as LuxRender does.
+    fn blender_pattern(
+        &mut self,
+        class: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<Option<BlenderPattern>, SceneError> {
+        let mut choice = |parser: &mut Self, name: &str, default: &str, known: &[&str]| {
+            let value = params.string(name)?.unwrap_or_else(|| default.to_owned());
+            Ok::<_, SceneError>(if known.contains(&value.as_str()) {
+                value
+            } else {
+                parser.warn(
+                    line,
+                    format!("{class}: \"{name}\" \"{value}\" unknown: \"{default}\""),
+                );
+                default.to_owned()
+            })
+        };
+        Ok(Some(match class {
+            "blender_blend" => {
+                let kinds = ["lin", "quad", "ease", "diag", "sphere", "halo", "radial"];
+                let kind = match choice(self, "type", "lin", &kinds)?.as_str() {
+                    "quad" => BlendKind::Quadratic,
+                    "ease" => BlendKind::Ease,
+                    "diag" => BlendKind::Diagonal,
+                    "sphere" => BlendKind::Sphere,
+                    "halo" => BlendKind::Halo,
+                    "radial" => BlendKind::Radial,
+                    _ => BlendKind::Linear,
+                };
+                BlenderPattern::Blend {
+                    kind,
+                    flip_xy: params.bool("flipxy")?.unwrap_or(false),
+                }
+            }
+            "blender_magic" => BlenderPattern::Magic {
+                depth: params.int("noisedepth")?.unwrap_or(2).clamp(0, 10) as u32,
+                turbulence: params.float("turbulence")?.unwrap_or(5.0),
+            },
+            _ => {
+                let types = ["bands", "rings", "bandnoise", "ringnoise"];
+                let rings = match choice(self, "type", "bands", &types)?.as_str() {
+                    "bandnoise" | "ringnoise" => return Ok(None),
+                    kind => kind == "rings",
+                };
+                let wave =
+                    match choice(self, "noisebasis2", "sin", &["sin", "saw", "tri"])?.as_str() {
+                        "saw" => Waveform::Saw,
+                        "tri" => Waveform::Triangle,
+                        _ => Waveform::Sine,
+                    };
+                // The noise parameters LuxBlend writes shape only the noisy types.
+                params.string("noisebasis")?;
+                params.string("noisetype")?;
+                params.float("noisesize")?;
+                params.float("turbulence")?;
+                BlenderPattern::Wood { rings, wave }
+            }
         }))
     }
 

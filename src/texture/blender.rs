@@ -1,0 +1,340 @@
+//! LuxRender 1.x's ports of Blender's procedural textures that need no noise basis:
+//! `blender_blend`, `blender_magic` and `blender_wood` with `type` "bands" or "rings"
+//! (`textures/blender_base.h`, `blender_blend.h`, `blender_magic.h`, `blender_wood.h`, and the
+//! texture functions `blend`, `magic`, `wood_int` of `textures/blender_texlib.cpp`, which
+//! LuxRender took from Blender 2.4x's `texture.c`).
+//!
+//! Each gives an intensity f at the mapped point, and the texture is (1 - f) `tex1` + f `tex2`
+//! (`BlenderTexture3D::Evaluate`: `Lerp(GetF(P), t1, t2)`, defaults `tex1` 0, `tex2` 1).
+//! Blender's brightness and contrast come last: f = (f - 1/2) contrast + bright - 1/2, clamped
+//! to [0, 1] for an intensity (`BRICONT`); for a colour (magic) each channel is mapped the same
+//! way but only clamped at 0 (`BRICONTRGB`), and the intensity is
+//! min(0.35 r + 0.45 g + 0.2 b, 1) (`BlenderTexture3D::GetF`).
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+
+/// `blender_blend`'s progression (`"string type"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlendKind {
+    /// "lin": (1 + x) / 2.
+    Linear,
+    /// "quad": ((1 + x) / 2)^2, 0 below x = -1.
+    Quadratic,
+    /// "ease": the smoothstep 3t^2 - 2t^3 of t = (1 + x) / 2 clamped to [0, 1].
+    Ease,
+    /// "diag": (2 + x + y) / 4.
+    Diagonal,
+    /// "sphere": 1 - |p|, at least 0.
+    Sphere,
+    /// "halo": the square of "sphere".
+    Halo,
+    /// "radial": atan2(y, x) / 2pi + 1/2.
+    Radial,
+}
+
+/// A wave of Blender's wood (`"string noisebasis2"`): each maps a phase to [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Waveform {
+    /// "sin": 1/2 + sin(a) / 2.
+    Sine,
+    /// "saw": a modulo 2pi, over 2pi.
+    Saw,
+    /// "tri": 1 - 2 |round(a / 2pi) - a / 2pi|.
+    Triangle,
+}
+
+/// Blender's procedural pattern, with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BlenderPattern {
+    /// `blender_blend`: `type` ("lin"), `flipxy` (false) swaps x and y.
+    Blend { kind: BlendKind, flip_xy: bool },
+    /// `blender_magic`: `noisedepth` (2) folds of sines and cosines, `turbulence` (5).
+    Magic { depth: u32, turbulence: f32 },
+    /// `blender_wood` "bands" (waves along x + y + z, 10 per unit) or "rings" (about the
+    /// origin, 20 per unit of radius).
+    Wood { rings: bool, wave: Waveform },
+}
+
+/// A pattern with Blender's `bright` (1) and `contrast` (1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlenderTexture {
+    pub pattern: BlenderPattern,
+    pub bright: f32,
+    pub contrast: f32,
+}
+
+impl BlenderTexture {
+    /// The intensity f in [0, 1] at texture-space point `p`.
+    pub fn intensity(&self, p: Vec3) -> f32 {
+        let adjust = |v: f32| (v - 0.5) * self.contrast + self.bright - 0.5;
+        match self.pattern {
+            BlenderPattern::Blend { kind, flip_xy } => {
+                adjust(blend(kind, flip_xy, p)).clamp(0.0, 1.0)
+            }
+            BlenderPattern::Wood { rings, wave } => {
+                let phase = if rings {
+                    p.length() * 20.0
+                } else {
+                    (p.x + p.y + p.z) * 10.0
+                };
+                adjust(wave.at(phase)).clamp(0.0, 1.0)
+            }
+            BlenderPattern::Magic { depth, turbulence } => {
+                let rgb = magic(p, depth, turbulence);
+                let rgb = Vec3::new(adjust(rgb.x), adjust(rgb.y), adjust(rgb.z)).max(Vec3::ZERO);
+                (0.35 * rgb.x + 0.45 * rgb.y + 0.2 * rgb.z).min(1.0)
+            }
+        }
+    }
+}
+
+/// Blender's `blend()`, before brightness and contrast.
+fn blend(kind: BlendKind, flip_xy: bool, p: Vec3) -> f32 {
+    let (x, y) = if flip_xy { (p.y, p.x) } else { (p.x, p.y) };
+    let t = (1.0 + x) / 2.0;
+    match kind {
+        BlendKind::Linear => t,
+        BlendKind::Quadratic => {
+            if t < 0.0 {
+                0.0
+            } else {
+                t * t
+            }
+        }
+        BlendKind::Ease => {
+            if t <= 0.0 {
+                0.0
+            } else if t >= 1.0 {
+                1.0
+            } else {
+                t * t * (3.0 - 2.0 * t)
+            }
+        }
+        BlendKind::Diagonal => (2.0 + x + y) / 4.0,
+        BlendKind::Radial => y.atan2(x) / (2.0 * PI) + 0.5,
+        BlendKind::Sphere | BlendKind::Halo => {
+            let s = (1.0 - (x * x + y * y + p.z * p.z).sqrt()).max(0.0);
+            if kind == BlendKind::Halo { s * s } else { s }
+        }
+    }
+}
+
+impl Waveform {
+    /// Blender's `tex_sin`, `tex_saw`, `tex_tri`.
+    fn at(self, a: f32) -> f32 {
+        let period = 2.0 * PI;
+        match self {
+            Waveform::Sine => 0.5 + 0.5 * a.sin(),
+            Waveform::Saw => {
+                // a - trunc(a / 2pi) 2pi, moved into [0, 2pi) when negative.
+                let r = a - (a / period).trunc() * period;
+                (if r < 0.0 { r + period } else { r }) / period
+            }
+            Waveform::Triangle => {
+                let cycles = a / period;
+                1.0 - 2.0 * ((cycles + 0.5).floor() - cycles).abs()
+            }
+        }
+    }
+}
+
+/// One fold of Blender's `magic()`: component `target` (0 x, 1 y, 2 z) becomes
+/// `sign` x trig(sx x + sy y + sz z), with cos where `cosine`.
+struct Fold {
+    target: usize,
+    sign: f32,
+    cosine: bool,
+    signs: [f32; 3],
+}
+
+/// The ten folds of `magic()` in order, applied while `noisedepth` allows
+/// (y = -cos(x - y + z), x = cos(x - y - z), z = sin(-x - y - z), ...).
+const FOLDS: [Fold; 10] = [
+    Fold {
+        target: 1,
+        sign: -1.0,
+        cosine: true,
+        signs: [1.0, -1.0, 1.0],
+    },
+    Fold {
+        target: 0,
+        sign: 1.0,
+        cosine: true,
+        signs: [1.0, -1.0, -1.0],
+    },
+    Fold {
+        target: 2,
+        sign: 1.0,
+        cosine: false,
+        signs: [-1.0, -1.0, -1.0],
+    },
+    Fold {
+        target: 0,
+        sign: -1.0,
+        cosine: true,
+        signs: [-1.0, 1.0, -1.0],
+    },
+    Fold {
+        target: 1,
+        sign: -1.0,
+        cosine: false,
+        signs: [-1.0, 1.0, 1.0],
+    },
+    Fold {
+        target: 1,
+        sign: -1.0,
+        cosine: true,
+        signs: [-1.0, 1.0, 1.0],
+    },
+    Fold {
+        target: 0,
+        sign: 1.0,
+        cosine: true,
+        signs: [1.0, 1.0, 1.0],
+    },
+    Fold {
+        target: 2,
+        sign: 1.0,
+        cosine: false,
+        signs: [1.0, 1.0, -1.0],
+    },
+    Fold {
+        target: 0,
+        sign: -1.0,
+        cosine: true,
+        signs: [-1.0, -1.0, 1.0],
+    },
+    Fold {
+        target: 1,
+        sign: -1.0,
+        cosine: false,
+        signs: [1.0, -1.0, 1.0],
+    },
+];
+
+/// Blender's `magic()` colour before brightness and contrast: three waves of the point, each
+/// fold replacing one component by a wave of a signed sum of all three, scaled by
+/// turbulence / 5 after each step; then (1/2 - x, 1/2 - y, 1/2 - z) of the components over
+/// 2 turbulence / 5.
+fn magic(p: Vec3, depth: u32, turbulence: f32) -> Vec3 {
+    let turb = turbulence / 5.0;
+    let mut c = [
+        ((p.x + p.y + p.z) * 5.0).sin(),
+        ((-p.x + p.y - p.z) * 5.0).cos(),
+        -((-p.x - p.y + p.z) * 5.0).cos(),
+    ];
+    if depth > 0 {
+        c.iter_mut().for_each(|v| *v *= turb);
+        for fold in FOLDS.iter().take(depth as usize) {
+            let arg = fold.signs[0] * c[0] + fold.signs[1] * c[1] + fold.signs[2] * c[2];
+            let wave = if fold.cosine { arg.cos() } else { arg.sin() };
+            c[fold.target] = fold.sign * wave * turb;
+        }
+    }
+    if turb != 0.0 {
+        c.iter_mut().for_each(|v| *v /= 2.0 * turb);
+    }
+    Vec3::new(0.5 - c[0], 0.5 - c[1], 0.5 - c[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plain(pattern: BlenderPattern) -> BlenderTexture {
+        BlenderTexture {
+            pattern,
+            bright: 1.0,
+            contrast: 1.0,
+        }
+    }
+
+    /// Blender's `blend()` by hand at p = (0.2, -0.6, 0.4): lin (1 + 0.2) / 2 = 0.6; quad 0.36;
+    /// ease 3 (0.36) - 2 (0.216) = 0.648; diag (2 + 0.2 - 0.6) / 4 = 0.4; sphere
+    /// 1 - sqrt(0.56) = 0.251669; halo its square 0.063337; radial atan2(-0.6, 0.2) / 2pi + 1/2
+    /// = 0.301208; flipped lin (1 - 0.6) / 2 = 0.2.
+    #[test]
+    fn blend_progressions() {
+        let p = Vec3::new(0.2, -0.6, 0.4);
+        let at = |kind, flip_xy| plain(BlenderPattern::Blend { kind, flip_xy }).intensity(p);
+        let cases = [
+            (BlendKind::Linear, false, 0.6),
+            (BlendKind::Quadratic, false, 0.36),
+            (BlendKind::Ease, false, 0.648),
+            (BlendKind::Diagonal, false, 0.4),
+            (BlendKind::Sphere, false, 0.251_669),
+            (BlendKind::Halo, false, 0.063_337),
+            (BlendKind::Radial, false, 0.301_208),
+            (BlendKind::Linear, true, 0.2),
+        ];
+        for (kind, flip, expected) in cases {
+            let v = at(kind, flip);
+            assert!((v - expected).abs() < 1e-5, "{kind:?} {flip}: {v}");
+        }
+        // Brightness and contrast: (0.6 - 0.5) 2 + 1.2 - 0.5 = 0.9; then clamped to 1.
+        let lin = BlenderPattern::Blend {
+            kind: BlendKind::Linear,
+            flip_xy: false,
+        };
+        let bricont = |bright, contrast| {
+            BlenderTexture {
+                pattern: lin,
+                bright,
+                contrast,
+            }
+            .intensity(p)
+        };
+        assert!((bricont(1.2, 2.0) - 0.9).abs() < 1e-6);
+        assert_eq!(bricont(1.5, 2.0), 1.0);
+    }
+
+    /// `wood_int` by hand. Bands at x + y + z = 0.05: phase 0.5, sin 1/2 + sin(0.5) / 2 =
+    /// 0.739713; saw 0.5 / 2pi = 0.079577; tri 1 - 2 |0 - 0.079577| = 0.840845. Rings at
+    /// radius 0.3: phase 6, sin 1/2 + sin(6) / 2 = 0.360292; a negative phase wraps the saw
+    /// into [0, 1): -0.5 gives 1 - 0.079577.
+    #[test]
+    fn wood_waves() {
+        let wood = |rings, wave, p: Vec3| plain(BlenderPattern::Wood { rings, wave }).intensity(p);
+        let band = Vec3::new(0.02, 0.01, 0.02);
+        assert!((wood(false, Waveform::Sine, band) - 0.739_713).abs() < 1e-5);
+        assert!((wood(false, Waveform::Saw, band) - 0.079_577).abs() < 1e-5);
+        assert!((wood(false, Waveform::Triangle, band) - 0.840_845).abs() < 1e-5);
+        let ring = Vec3::new(0.0, 0.3, 0.0);
+        assert!((wood(true, Waveform::Sine, ring) - 0.360_292).abs() < 1e-5);
+        let saw = wood(false, Waveform::Saw, -band);
+        assert!((saw - (1.0 - 0.079_577)).abs() < 1e-5, "{saw}");
+    }
+
+    /// `magic()` by hand at the origin with depth 1 and turbulence 5 (turb 1): x = sin 0 = 0,
+    /// y = cos 0 = 1, z = -cos 0 = -1; the first fold y = -cos(x - y + z) = -cos(-2) = 0.416147;
+    /// over 2 turb: (0, 0.208073, -0.5), so the colour is (0.5, 0.291927, 1.0) and the
+    /// intensity 0.35 (0.5) + 0.45 (0.291927) + 0.2 (1.0) = 0.506367. With depth 0 there is
+    /// no fold: (0.5, 0, 1) gives 0.375.
+    #[test]
+    fn magic_folds() {
+        let magic = |depth| {
+            plain(BlenderPattern::Magic {
+                depth,
+                turbulence: 5.0,
+            })
+            .intensity(Vec3::ZERO)
+        };
+        assert!((magic(1) - 0.506_367).abs() < 1e-5, "{}", magic(1));
+        assert!((magic(0) - 0.375).abs() < 1e-6, "{}", magic(0));
+        // Every depth up to 10 applies one more fold (and the value stays in [0, 1]).
+        let p = Vec3::new(0.3, -0.2, 0.7);
+        let values: Vec<f32> = (0..=10)
+            .map(|depth| {
+                plain(BlenderPattern::Magic {
+                    depth,
+                    turbulence: 5.0,
+                })
+                .intensity(p)
+            })
+            .collect();
+        assert!(values.iter().all(|v| (0.0..=1.0).contains(v)));
+        assert!(values.windows(2).all(|w| w[0] != w[1]), "{values:?}");
+    }
+}
