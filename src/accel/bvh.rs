@@ -139,8 +139,12 @@ impl Ray {
     /// nonzero, and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of
     /// such an axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for
     /// any practical purpose.
+    #[inline(always)]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Option<Ray> {
-        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
+        // `x · 0` is 0 for a finite `x` and NaN for ±∞ or NaN, and NaN equals nothing: one
+        // comparison checks all six coordinates.
+        let finite = (origin * Vec3A::ZERO + dir * Vec3A::ZERO).cmpeq(Vec3A::ZERO);
+        if !(finite.all() && dir.cmpne(Vec3A::ZERO).any()) {
             return None;
         }
         // All three components at once (a select, not a branch per axis): the sign is kept,
@@ -241,7 +245,10 @@ impl Bvh {
         // its loading starts now, to overlap the work on the children visited before it.
         let push = |stack: &mut [MaybeUninit<(u32, f32)>], depth: &mut usize, item: (u32, f32)| {
             if item.0 & LEAF == 0 {
-                prefetch(self.nodes.as_ptr().wrapping_add(item.0 as usize), NODE_LINES);
+                prefetch(
+                    self.nodes.as_ptr().wrapping_add(item.0 as usize),
+                    NODE_LINES,
+                );
             } else {
                 prefetch_leaf(item.0 & !LEAF);
             }

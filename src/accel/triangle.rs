@@ -36,12 +36,32 @@ pub(crate) struct Triangle4 {
     pub ids: [u32; 4],
 }
 
-/// The packet test's result: the lane hit and its `(t, u, v)`.
+/// A packet test's result: the lane hit and its `(t, u, v)`.
 pub(crate) struct LaneHit {
     pub lane: usize,
     pub t: f32,
     pub u: f32,
     pub v: f32,
+}
+
+impl LaneHit {
+    /// Of the lanes set in `bits` (not all clear), the one of least `t`; with `ANY`, the
+    /// first.
+    #[inline(always)]
+    pub fn pick<const ANY: bool>(mut bits: u32, t: Vec4) -> usize {
+        let mut lane = bits.trailing_zeros() as usize;
+        if !ANY {
+            bits &= bits - 1;
+            while bits != 0 {
+                let other = bits.trailing_zeros() as usize;
+                if t[other] < t[lane] {
+                    lane = other;
+                }
+                bits &= bits - 1;
+            }
+        }
+        lane
+    }
 }
 
 impl Triangle4 {
@@ -105,21 +125,11 @@ impl Triangle4 {
             & (u + v).cmple(Vec4::ONE)
             & t.cmpgt(Vec4::splat(t_min))
             & t.cmplt(Vec4::splat(t_max));
-        let mut bits = mask.bitmask();
+        let bits = mask.bitmask();
         if bits == 0 {
             return None;
         }
-        let mut lane = bits.trailing_zeros() as usize;
-        if !ANY {
-            bits &= bits - 1;
-            while bits != 0 {
-                let other = bits.trailing_zeros() as usize;
-                if t[other] < t[lane] {
-                    lane = other;
-                }
-                bits &= bits - 1;
-            }
-        }
+        let lane = LaneHit::pick::<ANY>(bits, t);
         Some(LaneHit {
             lane,
             t: t[lane],
