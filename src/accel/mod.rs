@@ -22,6 +22,7 @@ mod plane;
 mod primitive;
 mod sphere;
 mod triangle;
+mod vex;
 
 use std::time::{Duration, Instant};
 
@@ -257,7 +258,7 @@ impl Accel {
     }
 
     /// One rayon task of [`Accel::closest_hits`]: a plain loop with the query inlined (a
-    /// function of its own, so that profiles name it).
+    /// function of its own, so that profiles name it), compiled twice (see [`vex`]).
     #[inline(never)]
     fn closest_hits_chunk(
         &self,
@@ -267,9 +268,15 @@ impl Accel {
         t_maxs: &[f32],
         hits: &mut [Option<Hit>],
     ) {
-        for (((hit, &o), &d), &t_max) in hits.iter_mut().zip(origins).zip(dirs).zip(t_maxs) {
-            *hit = self.find_closest(o, d, t_min, t_max);
-        }
+        vex::run(
+            #[inline(always)]
+            || {
+                for (((hit, &o), &d), &t_max) in hits.iter_mut().zip(origins).zip(dirs).zip(t_maxs)
+                {
+                    *hit = self.find_closest(o, d, t_min, t_max);
+                }
+            },
+        )
     }
 
     /// occluded[i] = any_hit(...), or `any_opaque_hit` past the primitives of `pass_through`;
@@ -304,12 +311,20 @@ impl Accel {
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
-        for (((occ, &o), &d), &t_max) in occluded.iter_mut().zip(origins).zip(dirs).zip(t_maxs) {
-            // `find_any` returns false for an empty range (t_max <= t_min) before any work.
-            *occ = match pass_through {
-                None => self.find_any(o, d, t_min, t_max),
-                Some(pass) => self.find_any_opaque(o, d, t_min, t_max, pass),
-            };
-        }
+        vex::run(
+            #[inline(always)]
+            || {
+                for (((occ, &o), &d), &t_max) in
+                    occluded.iter_mut().zip(origins).zip(dirs).zip(t_maxs)
+                {
+                    // `find_any` returns false for an empty range (t_max <= t_min) before any
+                    // work.
+                    *occ = match pass_through {
+                        None => self.find_any(o, d, t_min, t_max),
+                        Some(pass) => self.find_any_opaque(o, d, t_min, t_max, pass),
+                    };
+                }
+            },
+        )
     }
 }
