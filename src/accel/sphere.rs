@@ -13,7 +13,7 @@ use glam::{Affine3A, Vec3A, Vec4};
 
 use super::SphereInstance;
 use super::aabb::Aabb;
-use super::triangle::LaneHit;
+use super::triangle::{LaneHit, dot4};
 
 /// The world bounds of a sphere that can be hit: the 8 corners of the object-space box
 /// `[-r, r]³`, mapped to world space. `None` for a sphere that cannot be hit or tested safely:
@@ -96,14 +96,13 @@ impl Sphere4 {
         let map = |row: &[Vec4; 4], p: &[Vec4; 3]| row[0] * p[0] + row[1] * p[1] + row[2] * p[2];
         let o = self.rows.each_ref().map(|row| map(row, o) + row[3]);
         let d = self.rows.each_ref().map(|row| map(row, d));
-        let dot = |a: &[Vec4; 3], b: &[Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let r = self.radius;
-        let a = dot(&d, &d);
-        let b = Vec4::splat(2.0) * dot(&o, &d);
-        let c = dot(&o, &o) - r * r;
+        let a = dot4(&d, &d);
+        let b = Vec4::splat(2.0) * dot4(&o, &d);
+        let c = dot4(&o, &o) - r * r;
         let k = b / (Vec4::splat(2.0) * a);
         let closest = [0, 1, 2].map(|axis| o[axis] - k * d[axis]);
-        let l = dot(&closest, &closest).sqrt();
+        let l = dot4(&closest, &closest).sqrt();
         let discriminant = Vec4::splat(4.0) * a * (r + l) * (r - l);
         let root = discriminant.sqrt();
         let q = Vec4::select(
