@@ -1,9 +1,9 @@
 //! A bottom-level tree: triangles and spheres in one space (the world, or a shared mesh's
 //! object space) under a four-wide [`Bvh`].
 //!
-//! A triangle leaf is a run of [`Triangle4`] packets, a sphere leaf a run of spheres; the leaf
-//! payload says which, where the run starts and how long it is. Each packet lane and each
-//! sphere carries its primitive id, so a hit needs no lookup.
+//! A triangle leaf is a run of [`Triangle4`] packets, a sphere leaf a run of [`Sphere4`]
+//! packets; the leaf payload says which, where the run starts and how long it is. Each packet
+//! lane carries its primitive id, so a hit needs no lookup.
 
 use std::ops::Range;
 
@@ -12,15 +12,15 @@ use rayon::prelude::*;
 
 use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
 use super::memory::{on_huge_pages, prefetch};
-use super::sphere::Sphere;
-use super::triangle::{Triangle4, triangle_bounds};
+use super::sphere::{Sphere4, sphere_bounds};
+use super::triangle::{LaneHit, Triangle4, triangle_bounds};
 use super::{BuildStats, Hit, SphereInstance};
 
 /// Payload bit of a sphere leaf.
 const SPHERE_LEAF: u32 = 1 << 30;
-/// The low bits of a payload count the leaf's packets or spheres (at most `MAX_LEAF_SIZE`);
-/// the bits above them up to bit 29 hold the run's start, so a tree holds at most 2²⁶ packets
-/// (2²⁸ triangles) and as many spheres.
+/// The low bits of a payload count the leaf's packets (at most `MAX_LEAF_SIZE`); the bits
+/// above them up to bit 29 hold the run's start, so a tree holds at most 2²⁶ packets of each
+/// kind (2²⁸ triangles, as many spheres).
 const COUNT_BITS: u32 = 4;
 const MAX_START: usize = 1 << (30 - COUNT_BITS);
 
@@ -34,7 +34,7 @@ const SPHERES: u32 = 1;
 pub(crate) struct Blas {
     bvh: Bvh,
     packets: Vec<Triangle4>,
-    spheres: Vec<(Sphere, u32)>,
+    spheres: Vec<Sphere4>,
     shape: Shape,
 }
 
@@ -50,7 +50,7 @@ impl Blas {
         let triangle_prims = (triangles.par_iter().enumerate())
             .filter_map(|(i, t)| Some(BuildPrim::new(triangle_bounds(t)?, i as u32, TRIANGLES)));
         let sphere_prims = (spheres.par_iter().enumerate())
-            .filter_map(|(i, s)| Some(BuildPrim::new(Sphere::bounds(s)?, i as u32, SPHERES)));
+            .filter_map(|(i, s)| Some(BuildPrim::new(sphere_bounds(s)?, i as u32, SPHERES)));
         let mut prims: Vec<BuildPrim> = triangle_prims.chain(sphere_prims).collect();
         // The tree's walk over the leaves only numbers the packets; they are packed afterwards,
         // in parallel, from the triangle leaves' runs of `prims` in that order.
@@ -65,11 +65,11 @@ impl Blas {
                 (start, packet_count - start, 0)
             } else {
                 let start = sphere_list.len();
-                sphere_list.extend(run.iter().map(|p| {
-                    let i = p.id as usize;
-                    (Sphere::new(&spheres[i]), sphere_id(i))
+                sphere_list.extend(run.chunks(LEAF_BLOCK).map(|block| {
+                    let lanes = block.iter().map(|p| p.id as usize);
+                    Sphere4::new(lanes.map(|i| (&spheres[i], sphere_id(i))))
                 }));
-                (start, run.len(), SPHERE_LEAF)
+                (start, sphere_list.len() - start, SPHERE_LEAF)
             };
             assert!(start < MAX_START, "more than 2^26 leaf runs in one tree");
             kind | (start as u32) << COUNT_BITS | count as u32
@@ -120,39 +120,24 @@ impl Blas {
             |payload, t_max| {
                 let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
                 let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+                let (o, d) = (&ray.origin4, &ray.dir4);
                 if payload & SPHERE_LEAF == 0 {
-                    for packet in &self.packets[run] {
-                        let hit = packet.intersect::<ANY>(&ray.origin4, &ray.dir4, t_min, *t_max);
-                        if let Some(hit) = hit {
-                            *t_max = hit.t;
-                            *found = Some(Hit {
-                                t: hit.t,
-                                prim: packet.ids[hit.lane],
-                                u: hit.u,
-                                v: hit.v,
-                            });
-                            if ANY {
-                                return true;
-                            }
-                        }
-                    }
+                    test_run::<ANY, _>(
+                        &self.packets[run],
+                        |packet, t_max| packet.intersect::<ANY>(o, d, t_min, t_max),
+                        |packet, lane| packet.ids[lane],
+                        t_max,
+                        found,
+                    )
                 } else {
-                    for (sphere, id) in &self.spheres[run] {
-                        if let Some(t) = sphere.intersect(ray.origin, ray.dir, t_min, *t_max) {
-                            *t_max = t;
-                            *found = Some(Hit {
-                                t,
-                                prim: *id,
-                                u: 0.0,
-                                v: 0.0,
-                            });
-                            if ANY {
-                                return true;
-                            }
-                        }
-                    }
+                    test_run::<ANY, _>(
+                        &self.spheres[run],
+                        |packet, t_max| packet.intersect::<ANY>(o, d, t_min, t_max),
+                        |packet, lane| packet.ids[lane],
+                        t_max,
+                        found,
+                    )
                 }
-                false
             },
             #[inline(always)]
             |payload| {
@@ -163,4 +148,32 @@ impl Blas {
             },
         )
     }
+}
+
+/// Tests a leaf's packets in turn: each hit (nearer than `t_max`, as the packet tests only
+/// accept) is recorded in `found` with its lane's `id` and shrinks `t_max`. With `ANY`, stops
+/// at the first and returns `true`.
+#[inline(always)]
+fn test_run<const ANY: bool, P>(
+    packets: &[P],
+    intersect: impl Fn(&P, f32) -> Option<LaneHit>,
+    id: impl Fn(&P, usize) -> u32,
+    t_max: &mut f32,
+    found: &mut Option<Hit>,
+) -> bool {
+    for packet in packets {
+        if let Some(hit) = intersect(packet, *t_max) {
+            *t_max = hit.t;
+            *found = Some(Hit {
+                t: hit.t,
+                prim: id(packet, hit.lane),
+                u: hit.u,
+                v: hit.v,
+            });
+            if ANY {
+                return true;
+            }
+        }
+    }
+    false
 }

@@ -139,8 +139,12 @@ impl Ray {
     /// nonzero, and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of
     /// such an axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for
     /// any practical purpose.
+    #[inline(always)]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Option<Ray> {
-        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
+        // `x · 0` is 0 for a finite `x` and NaN for ±∞ or NaN, and NaN equals nothing: one
+        // comparison checks all six coordinates.
+        let finite = (origin * Vec3A::ZERO + dir * Vec3A::ZERO).cmpeq(Vec3A::ZERO);
+        if !(finite.all() && dir.cmpne(Vec3A::ZERO).any()) {
             return None;
         }
         // All three components at once (a select, not a branch per axis): the sign is kept,
@@ -237,48 +241,80 @@ impl Bvh {
         // uninitialised: zeroing 1.5 KiB per ray costs as much as a small scene's traversal.
         let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK_SIZE];
         let mut depth = 0;
-        loop {
-            if current & LEAF != 0 {
-                if leaf(current & !LEAF, t_max) {
-                    return true;
-                }
+        // Pushes a child to visit later. Nearly every node of a large tree misses the caches:
+        // its loading starts now, to overlap the work on the children visited before it.
+        let push = |stack: &mut [MaybeUninit<(u32, f32)>], depth: &mut usize, item: (u32, f32)| {
+            if item.0 & LEAF == 0 {
+                prefetch(
+                    self.nodes.as_ptr().wrapping_add(item.0 as usize),
+                    NODE_LINES,
+                );
             } else {
+                prefetch_leaf(item.0 & !LEAF);
+            }
+            stack[*depth].write(item);
+            *depth += 1;
+        };
+        loop {
+            if current & LEAF == 0 {
                 let node = &self.nodes[current as usize];
-                let (near, mut mask) = node.hit(ray, t_min, *t_max);
+                let (near, mask) = node.hit(ray, t_min, *t_max);
                 if mask != 0 {
-                    // The entered children (sorted by entry distance, farthest first, when
-                    // `nearest_first`); all but the last go on the stack, the last is visited next.
-                    let mut entered = [(0u32, 0f32); 4];
-                    let mut count = 0;
-                    while mask != 0 {
+                    // The entered children by count, as Embree's traversal does: one is
+                    // visited at once; of two the nearer is visited and the other pushed; of
+                    // three or four, all but the nearest are pushed farthest first. Without
+                    // `nearest_first` the lane order stands in for the distance order.
+                    let near = near.to_array();
+                    let entry = |mask: u32| {
                         let lane = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let item = (node.child[lane], near[lane]);
-                        // Nearly every node of a large tree misses the caches: start loading
-                        // each entered child now, not when it is reached.
-                        if item.0 & LEAF == 0 {
-                            prefetch(
-                                self.nodes.as_ptr().wrapping_add(item.0 as usize),
-                                NODE_LINES,
-                            );
+                        (node.child[lane], near[lane])
+                    };
+                    let first = entry(mask);
+                    let mut rest = mask & (mask - 1);
+                    if rest == 0 {
+                        current = first.0;
+                        continue;
+                    }
+                    let second = entry(rest);
+                    rest &= rest - 1;
+                    if rest == 0 {
+                        let (visit, later) = if nearest_first && second.1 < first.1 {
+                            (second, first)
                         } else {
-                            prefetch_leaf(item.0 & !LEAF);
+                            (first, second)
+                        };
+                        push(&mut stack, &mut depth, later);
+                        current = visit.0;
+                        continue;
+                    }
+                    let mut entered = [first, second, entry(rest), (0, 0.0)];
+                    rest &= rest - 1;
+                    let count = if rest == 0 {
+                        3
+                    } else {
+                        entered[3] = entry(rest);
+                        4
+                    };
+                    if nearest_first {
+                        // Insertion sort, farthest first.
+                        for k in 1..count {
+                            let item = entered[k];
+                            let mut i = k;
+                            while i > 0 && entered[i - 1].1 < item.1 {
+                                entered[i] = entered[i - 1];
+                                i -= 1;
+                            }
+                            entered[i] = item;
                         }
-                        let mut i = count;
-                        while nearest_first && i > 0 && entered[i - 1].1 < item.1 {
-                            entered[i] = entered[i - 1];
-                            i -= 1;
-                        }
-                        entered[i] = item;
-                        count += 1;
                     }
                     for &item in &entered[..count - 1] {
-                        stack[depth].write(item);
-                        depth += 1;
+                        push(&mut stack, &mut depth, item);
                     }
                     current = entered[count - 1].0;
                     continue;
                 }
+            } else if leaf(current & !LEAF, t_max) {
+                return true;
             }
             // Pop the next child the ray enters before the closest hit so far.
             loop {

@@ -6,7 +6,7 @@
 //! in both spaces: `t_min`, `t_max` and the hit's `t` need no rescaling (the direction is not
 //! renormalised).
 
-use glam::Affine3A;
+use glam::{Affine3A, Vec3A};
 use rayon::prelude::*;
 
 use super::aabb::Aabb;
@@ -82,30 +82,45 @@ impl Instances {
         }
     }
 
-    /// As [`Blas::find`], over every instance the ray reaches. Only the test for "no
-    /// instances" is inlined into the callers: the world tree's traversal, inlined beside it,
-    /// keeps its registers.
+    /// As [`Blas::find`], over every instance the ray `origin + t dir` (valid for
+    /// [`Ray::new`]) reaches. Only the test for "no instances" is inlined into the callers:
+    /// the world tree's traversal, inlined beside it, keeps its registers, and its prepared
+    /// ray and closest hit need not be stored in memory for this call (which prepares the ray
+    /// again).
     #[inline(always)]
     pub fn find<const ANY: bool>(
         &self,
-        ray: &Ray,
+        origin: Vec3A,
+        dir: Vec3A,
         t_min: f32,
         t_max: &mut f32,
         found: &mut Option<Hit>,
     ) -> bool {
-        !self.placed.is_empty() && self.find_placed::<ANY>(ray, t_min, t_max, found)
+        if self.placed.is_empty() {
+            return false;
+        }
+        let (mut t, mut hit) = (*t_max, None);
+        let stop = self.find_placed::<ANY>(origin, dir, t_min, &mut t, &mut hit);
+        if hit.is_some() {
+            (*t_max, *found) = (t, hit);
+        }
+        stop
     }
 
     #[inline(never)]
     fn find_placed<const ANY: bool>(
         &self,
-        ray: &Ray,
+        origin: Vec3A,
+        dir: Vec3A,
         t_min: f32,
         t_max: &mut f32,
         found: &mut Option<Hit>,
     ) -> bool {
+        let Some(ray) = Ray::new(origin, dir) else {
+            return false;
+        };
         self.bvh.traverse(
-            ray,
+            &ray,
             t_min,
             t_max,
             !ANY,

@@ -22,6 +22,7 @@ mod plane;
 mod primitive;
 mod sphere;
 mod triangle;
+mod vex;
 
 use std::time::{Duration, Instant};
 
@@ -182,6 +183,13 @@ impl Accel {
     /// Planes are tested first: a plane hit shrinks `t_max` before traversal, so a ground plane
     /// culls everything beneath it. A tree's hit replaces it only if strictly nearer.
     pub fn closest_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
+        self.find_closest(origin, dir, t_min, t_max)
+    }
+
+    /// [`Accel::closest_hit`], inlined into the batch loop: a call per ray would save and
+    /// restore registers and reload the trees' fields for each.
+    #[inline(always)]
+    fn find_closest(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
         // The range first: it is the cheaper test, and a batch's empty slots fail it.
         if t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return None;
@@ -203,12 +211,18 @@ impl Accel {
         self.world
             .find::<false>(&ray, t_min, &mut t_max, &mut closest);
         self.instances
-            .find::<false>(&ray, t_min, &mut t_max, &mut closest);
+            .find::<false>(ray.origin, ray.dir, t_min, &mut t_max, &mut closest);
         closest
     }
 
     /// Whether anything is hit with t in (t_min, t_max): stops at the first hit found.
     pub fn any_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
+        self.find_any(origin, dir, t_min, t_max)
+    }
+
+    /// [`Accel::any_hit`], inlined into the batch loop.
+    #[inline(always)]
+    fn find_any(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
         if t_min.is_nan() || t_max.is_nan() || t_min >= t_max {
             return false;
         }
@@ -222,7 +236,7 @@ impl Accel {
         self.world.find::<true>(&ray, t_min, &mut t_max, &mut found)
             || self
                 .instances
-                .find::<true>(&ray, t_min, &mut t_max, &mut found)
+                .find::<true>(ray.origin, ray.dir, t_min, &mut t_max, &mut found)
     }
     /// For each i: hits[i] = closest_hit(origins[i], dirs[i], t_min, t_maxs[i]); parallel with
     /// rayon over chunks. Only the first `min` of the slices' lengths entries are computed.
@@ -239,11 +253,30 @@ impl Accel {
             .zip(dirs.par_chunks(BATCH_CHUNK))
             .zip(t_maxs.par_chunks(BATCH_CHUNK))
             .for_each(|(((hits, origins), dirs), t_maxs)| {
+                self.closest_hits_chunk(origins, dirs, t_min, t_maxs, hits)
+            });
+    }
+
+    /// One rayon task of [`Accel::closest_hits`]: a plain loop with the query inlined (a
+    /// function of its own, so that profiles name it), compiled twice (see [`vex`]).
+    #[inline(never)]
+    fn closest_hits_chunk(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        t_min: f32,
+        t_maxs: &[f32],
+        hits: &mut [Option<Hit>],
+    ) {
+        vex::run(
+            #[inline(always)]
+            || {
                 for (((hit, &o), &d), &t_max) in hits.iter_mut().zip(origins).zip(dirs).zip(t_maxs)
                 {
-                    *hit = self.closest_hit(o, d, t_min, t_max);
+                    *hit = self.find_closest(o, d, t_min, t_max);
                 }
-            });
+            },
+        )
     }
 
     /// occluded[i] = any_hit(...), or `any_opaque_hit` past the primitives of `pass_through`;
@@ -263,15 +296,35 @@ impl Accel {
             .zip(dirs.par_chunks(BATCH_CHUNK))
             .zip(t_maxs.par_chunks(BATCH_CHUNK))
             .for_each(|(((occluded, origins), dirs), t_maxs)| {
+                self.any_hits_chunk(origins, dirs, t_min, t_maxs, pass_through, occluded)
+            });
+    }
+
+    /// One rayon task of [`Accel::any_hits`], as [`Accel::closest_hits_chunk`].
+    #[inline(never)]
+    fn any_hits_chunk(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        t_min: f32,
+        t_maxs: &[f32],
+        pass_through: Option<&PassThrough>,
+        occluded: &mut [bool],
+    ) {
+        vex::run(
+            #[inline(always)]
+            || {
                 for (((occ, &o), &d), &t_max) in
                     occluded.iter_mut().zip(origins).zip(dirs).zip(t_maxs)
                 {
-                    // `any_hit` returns false for an empty range (t_max <= t_min) before any work.
+                    // `find_any` returns false for an empty range (t_max <= t_min) before any
+                    // work.
                     *occ = match pass_through {
-                        None => self.any_hit(o, d, t_min, t_max),
-                        Some(pass) => self.any_opaque_hit(o, d, t_min, t_max, pass),
+                        None => self.find_any(o, d, t_min, t_max),
+                        Some(pass) => self.find_any_opaque(o, d, t_min, t_max, pass),
                     };
                 }
-            });
+            },
+        )
     }
 }

@@ -52,7 +52,21 @@ impl Accel {
         t_max: f32,
         pass_through: &PassThrough,
     ) -> bool {
-        if !self.any_hit(origin, dir, t_min, t_max) {
+        self.find_any_opaque(origin, dir, t_min, t_max, pass_through)
+    }
+
+    /// [`Accel::any_opaque_hit`], inlined into the batch loop: the cheap question's traversal
+    /// inlined, the walk past invisible surfaces (rarer) calls out.
+    #[inline(always)]
+    pub(super) fn find_any_opaque(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t_min: f32,
+        t_max: f32,
+        pass_through: &PassThrough,
+    ) -> bool {
+        if !self.find_any(origin, dir, t_min, t_max) {
             return false;
         }
         let mut t_min = t_min;

@@ -24,6 +24,13 @@ pub(crate) fn triangle_bounds(v: &[Vec3; 3]) -> Option<Aabb> {
     (b.is_finite() && area2 > 0.0 && area2.is_finite()).then_some(b)
 }
 
+/// The four dot products of four pairs of vectors stored by coordinate (`a[axis]` holds the
+/// four vectors' `axis` coordinates).
+#[inline(always)]
+pub(crate) fn dot4(a: &[Vec4; 3], b: &[Vec4; 3]) -> Vec4 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 /// Up to four triangles, by coordinate: `v0[axis]` holds the four `v0.axis`, and so on; `ids`
 /// are the triangles' primitive ids. An unused lane holds the zero triangle, whose `det` is 0
 /// for every ray, so it is never hit. 160 bytes.
@@ -36,12 +43,32 @@ pub(crate) struct Triangle4 {
     pub ids: [u32; 4],
 }
 
-/// The packet test's result: the lane hit and its `(t, u, v)`.
+/// A packet test's result: the lane hit and its `(t, u, v)`.
 pub(crate) struct LaneHit {
     pub lane: usize,
     pub t: f32,
     pub u: f32,
     pub v: f32,
+}
+
+impl LaneHit {
+    /// Of the lanes set in `bits` (not all clear), the one of least `t`; with `ANY`, the
+    /// first.
+    #[inline(always)]
+    pub fn pick<const ANY: bool>(mut bits: u32, t: Vec4) -> usize {
+        let mut lane = bits.trailing_zeros() as usize;
+        if !ANY {
+            bits &= bits - 1;
+            while bits != 0 {
+                let other = bits.trailing_zeros() as usize;
+                if t[other] < t[lane] {
+                    lane = other;
+                }
+                bits &= bits - 1;
+            }
+        }
+        lane
+    }
 }
 
 impl Triangle4 {
@@ -84,12 +111,11 @@ impl Triangle4 {
                 a[0] * b[1] - a[1] * b[0],
             ]
         };
-        let dot = |a: &[Vec4; 3], b: &[Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let p = cross(d, e2);
-        let det = dot(e1, &p);
+        let det = dot4(e1, &p);
         let inv_det = Vec4::ONE / det;
         let s = [o[0] - self.v0[0], o[1] - self.v0[1], o[2] - self.v0[2]];
-        let u = dot(&s, &p) * inv_det;
+        let u = dot4(&s, &p) * inv_det;
         // Most packets a ray reaches lie beside it: when no lane passes the first barycentric
         // test, stop before the second cross product (the same operations on the lanes that
         // go on, so the results are unchanged).
@@ -98,28 +124,18 @@ impl Triangle4 {
             return None;
         }
         let q = cross(&s, e1);
-        let v = dot(d, &q) * inv_det;
-        let t = dot(e2, &q) * inv_det;
+        let v = dot4(d, &q) * inv_det;
+        let t = dot4(e2, &q) * inv_det;
         let mask = u_mask
             & v.cmpge(Vec4::ZERO)
             & (u + v).cmple(Vec4::ONE)
             & t.cmpgt(Vec4::splat(t_min))
             & t.cmplt(Vec4::splat(t_max));
-        let mut bits = mask.bitmask();
+        let bits = mask.bitmask();
         if bits == 0 {
             return None;
         }
-        let mut lane = bits.trailing_zeros() as usize;
-        if !ANY {
-            bits &= bits - 1;
-            while bits != 0 {
-                let other = bits.trailing_zeros() as usize;
-                if t[other] < t[lane] {
-                    lane = other;
-                }
-                bits &= bits - 1;
-            }
-        }
+        let lane = LaneHit::pick::<ANY>(bits, t);
         Some(LaneHit {
             lane,
             t: t[lane],
