@@ -183,7 +183,7 @@ impl Accel {
     /// Planes are tested first: a plane hit shrinks `t_max` before traversal, so a ground plane
     /// culls everything beneath it. A tree's hit replaces it only if strictly nearer.
     pub fn closest_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
-        self.find_closest(origin, dir, t_min, t_max)
+        vex::run(|| self.find_closest(origin, dir, t_min, t_max))
     }
 
     /// [`Accel::closest_hit`], inlined into the batch loop: a call per ray would save and
@@ -217,7 +217,7 @@ impl Accel {
 
     /// Whether anything is hit with t in (t_min, t_max): stops at the first hit found.
     pub fn any_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
-        self.find_any(origin, dir, t_min, t_max)
+        vex::run(|| self.find_any(origin, dir, t_min, t_max))
     }
 
     /// [`Accel::any_hit`], inlined into the batch loop.
