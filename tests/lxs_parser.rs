@@ -1647,14 +1647,32 @@ fn disk_and_cylinder_shapes() {
     }
 }
 
+/// The shapes a scene draws, its instances expanded into their groups' members placed by
+/// the instance's map (as `scene::build` places them).
+fn expanded_shapes(scene: &SceneDesc) -> Vec<foton::scene::desc::ShapeDesc> {
+    (scene.shapes.iter())
+        .flat_map(|shape| match shape.geometry {
+            Geometry::Instance { group } => (scene.shape_groups[group].iter())
+                .map(|member| foton::scene::desc::ShapeDesc {
+                    object_to_world: shape.object_to_world * member.object_to_world,
+                    ..member.clone()
+                })
+                .collect(),
+            _ => vec![shape.clone()],
+        })
+        .collect()
+}
+
 /// `ObjectInstance` draws the object's shapes under the instance's transformation times their
-/// own: the same shapes as writing them out in place.
+/// own: the same shapes as writing them out in place. The object is one shape group placed
+/// twice; its emitting shape is copied into each instance instead.
 #[test]
 fn object_instances_equal_their_shapes_written_out() {
     let instanced = scene(
         "instanced",
         "WorldBegin\nMaterial \"matte\"\nObjectBegin \"pair\"\nTranslate 0 0 1\n\
-         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nObjectEnd\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\n\
+         AttributeBegin\nAreaLightSource \"area\" \"color L\" [1 1 1]\nShape \"disk\" \"float radius\" [0.1]\nAttributeEnd\nObjectEnd\n\
          Shape \"sphere\" \"float radius\" [3]\n\
          AttributeBegin\nTranslate 5 0 0\nObjectInstance \"pair\"\nAttributeEnd\n\
          AttributeBegin\nRotate 90 0 0 1\nScale 2 2 2\nObjectInstance \"pair\"\nAttributeEnd\nWorldEnd\n",
@@ -1663,14 +1681,34 @@ fn object_instances_equal_their_shapes_written_out() {
         "written_out",
         "WorldBegin\nMaterial \"matte\"\nShape \"sphere\" \"float radius\" [3]\n\
          AttributeBegin\nTranslate 5 0 0\nTranslate 0 0 1\n\
-         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nAttributeEnd\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\n\
+         AreaLightSource \"area\" \"color L\" [1 1 1]\nShape \"disk\" \"float radius\" [0.1]\nAttributeEnd\n\
          AttributeBegin\nRotate 90 0 0 1\nScale 2 2 2\nTranslate 0 0 1\n\
-         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nAttributeEnd\nWorldEnd\n",
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\n\
+         AreaLightSource \"area\" \"color L\" [1 1 1]\nShape \"disk\" \"float radius\" [0.1]\nAttributeEnd\nWorldEnd\n",
     );
     assert!(instanced.warnings.is_empty(), "{:?}", messages(&instanced));
-    assert_eq!(instanced.shapes.len(), 5);
-    assert_eq!(instanced.shapes.len(), written_out.shapes.len());
-    for (a, b) in instanced.shapes.iter().zip(&written_out.shapes) {
+    assert_eq!(instanced.shape_groups.len(), 1);
+    assert_eq!(instanced.shape_groups[0].len(), 2);
+    let instances = (instanced.shapes.iter())
+        .filter(|s| matches!(s.geometry, Geometry::Instance { .. }))
+        .count();
+    assert_eq!(instances, 2);
+    // Shape order aside (each instance, then its copied emitter), the same shapes.
+    let key = |s: &foton::scene::desc::ShapeDesc| {
+        let t = s.object_to_world.w_axis;
+        (
+            format!("{:?}", s.geometry),
+            [t.x, t.y, t.z].map(|v| (v * 1e3).round() as i64),
+        )
+    };
+    let mut a = expanded_shapes(&instanced);
+    let mut b = expanded_shapes(&written_out);
+    a.sort_by_key(key);
+    b.sort_by_key(key);
+    assert_eq!(a.len(), 7);
+    assert_eq!(a.len(), b.len());
+    for (a, b) in a.iter().zip(&b) {
         assert!(
             a.object_to_world.abs_diff_eq(b.object_to_world, 1e-5),
             "{} {}",
@@ -1679,10 +1717,14 @@ fn object_instances_equal_their_shapes_written_out() {
         );
         assert_eq!(format!("{:?}", a.geometry), format!("{:?}", b.geometry));
         assert_eq!(a.material, b.material);
+        assert_eq!(a.area_light.is_some(), b.area_light.is_some());
     }
     assert_eq!(
         instanced.notes,
-        ["2 ObjectInstance of 1 objects flattened into 4 shapes"]
+        [
+            "2 ObjectInstance of 1 objects: 4 shapes placed as instances of shared shapes, \
+          2 emitting shapes copied (the instance level emits no light)"
+        ]
     );
     let e = error(
         "no_object",

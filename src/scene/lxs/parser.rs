@@ -7,13 +7,11 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 
 use super::lights::AreaLight;
-use super::objects::OpenObject;
+use super::objects::{InstanceCounts, Object, OpenObject};
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
-use crate::scene::desc::{
-    ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning, ShapeDesc,
-};
+use crate::scene::desc::{ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning};
 use crate::settings::IntegratorKind;
 
 /// What `AttributeBegin`/`AttributeEnd` save and restore.
@@ -112,10 +110,9 @@ pub(super) struct Parser {
     pub named_textures: HashMap<String, ColorParam>,
     /// `ObjectBegin` … `ObjectEnd`: the object being defined, and those defined.
     pub open_object: Option<OpenObject>,
-    pub objects: HashMap<String, Vec<ShapeDesc>>,
-    /// `ObjectInstance`s read, and the shapes they drew.
-    pub instance_count: usize,
-    pub instanced_shapes: usize,
+    pub objects: HashMap<String, Object>,
+    /// What the `ObjectInstance`s read drew.
+    pub instance_counts: InstanceCounts,
     /// What has been read so far.
     pub scene: SceneDesc,
 }
@@ -135,8 +132,7 @@ impl Parser {
             named_textures: HashMap::new(),
             open_object: None,
             objects: HashMap::new(),
-            instance_count: 0,
-            instanced_shapes: 0,
+            instance_counts: InstanceCounts::default(),
             scene: SceneDesc::empty(Location::line(path, 0)),
         }
     }
@@ -617,13 +613,8 @@ impl Parser {
                 message: "WorldBegin is never closed by WorldEnd".into(),
             });
         }
-        if self.instance_count > 0 {
-            self.scene.notes.push(format!(
-                "{} ObjectInstance of {} objects flattened into {} shapes",
-                self.instance_count,
-                self.objects.len(),
-                self.instanced_shapes
-            ));
+        if let Some(note) = self.instance_note() {
+            self.scene.notes.push(note);
         }
         self.scene.warnings = once_per_kind(std::mem::take(&mut self.scene.warnings));
         Ok(self.scene)

@@ -206,7 +206,7 @@ impl Parser {
                 );
                 sphere
             }
-            // This loader places no instances.
+            // `Shape` makes no instances (`ObjectInstance` does).
             instance @ Geometry::Instance { .. } => instance,
         }
     }

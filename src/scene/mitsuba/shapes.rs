@@ -204,17 +204,10 @@ fn shape_group(cx: &mut Converter, group: &Object) -> Result<usize, SceneError> 
     }
     let mut members: Vec<ShapeDesc> = cx.desc.shapes.drain(first..).collect();
     for member in &mut members {
-        let mut unsupported = Vec::new();
         if member.area_light.take().is_some() {
-            unsupported.push("its emitter is ignored");
-        }
-        if has_smooth_normals(&member.geometry) {
-            unsupported.push("instanced meshes are shaded with face normals");
-        }
-        if !unsupported.is_empty() {
             cx.desc.warnings.push(SceneWarning {
                 location: member.location.clone(),
-                message: format!("shape in a shapegroup: {}", unsupported.join("; ")),
+                message: "shape in a shapegroup: its emitter is ignored".into(),
             });
         }
     }
@@ -223,26 +216,6 @@ fn shape_group(cx: &mut Converter, group: &Object) -> Result<usize, SceneError> 
     let id = cx.desc.shape_groups.len() - 1;
     cx.shape_groups.insert(key, id);
     Ok(id)
-}
-
-/// Whether a mesh's vertex normals differ from its faces' (instances keep face normals only).
-fn has_smooth_normals(geometry: &Geometry) -> bool {
-    let Geometry::TriangleMesh {
-        positions,
-        normals: Some(normals),
-        indices,
-        ..
-    } = geometry
-    else {
-        return false;
-    };
-    indices.iter().any(|&[a, b, c]| {
-        let p = |i: u32| positions[i as usize];
-        let face = (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero();
-        [a, b, c]
-            .iter()
-            .any(|&i| normals[i as usize].normalize_or_zero().dot(face) < 0.999)
-    })
 }
 
 fn ply_mesh(path: &std::path::Path) -> Result<TriangleMesh, String> {
