@@ -471,3 +471,49 @@ fn matte_translucent_sigma_makes_oren_nayar_lobes() {
         );
     }
 }
+
+/// `glossytranslucent`: LuxRender 1.x's defaults (Kd, Kt, Ks 1, roughness 0.1 squared), the
+/// index scaling Ks by ((n - 1) / (n + 1))^2, the front coating copied to the back unless
+/// `onesided` is false, then the `backface_*` parameters with their own defaults (0: black,
+/// the roughness clamped to 6e-3).
+#[test]
+fn glossytranslucent_reads_both_coatings() {
+    let read = |name: &str, params: &str| {
+        let s = quad_scene(name, &format!("Material \"glossytranslucent\" {params}"));
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        match s.materials.last().unwrap().clone() {
+            MaterialDesc::GlossyTranslucent {
+                diffuse,
+                transmittance,
+                front,
+                back,
+            } => (diffuse, transmittance, front, back),
+            other => panic!("{other:?}"),
+        }
+    };
+    let constant = |c: ColorParam| match c {
+        ColorParam::Constant(c) => c,
+        other => panic!("{other:?}"),
+    };
+    let (kd, kt, front, back) = read("gt_defaults", "");
+    assert_eq!((constant(kd), constant(kt)), (Vec3::ONE, Vec3::ONE));
+    assert_eq!(constant(front.specular), Vec3::ONE);
+    assert!((front.roughness - 0.01).abs() < 1e-7);
+    assert!(!front.multibounce);
+    assert_eq!(front, back);
+    let (_, _, front, back) = read(
+        "gt_two_sided",
+        "\"float index\" [1.5] \"bool multibounce\" [\"true\"] \"float d\" [0.3] \
+         \"bool onesided\" [\"false\"] \"color backface_Ks\" [0.5 0.5 0.5] \
+         \"float backface_uroughness\" [0.5]",
+    );
+    assert!((constant(front.specular).x - 0.04).abs() < 1e-6);
+    assert!(front.multibounce && front.depth == 0.3);
+    assert_eq!(constant(back.specular), Vec3::splat(0.5));
+    assert!(
+        (back.roughness - 0.5 * 6e-3).abs() < 1e-7,
+        "{}",
+        back.roughness
+    );
+    assert!(!back.multibounce && back.depth == 0.0);
+}

@@ -8,7 +8,7 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{
-    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc,
+    ColorParam, FilterKind, Geometry, GlossyCoatingDesc, ImageTexture, LightDesc, MaterialDesc,
     MicrofacetDistribution, Roughness, SceneDesc, ShapeDesc, ToneMap,
 };
 use crate::bsdf::microfacet::clamp_alpha;
@@ -26,7 +26,7 @@ use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
 use crate::material::bump::BumpMap;
 use crate::material::texture::{self, TextureTable};
-use crate::material::{Color, Material, MaterialTable, PaintLobe};
+use crate::material::{Color, GlossyCoating, Material, MaterialTable, PaintLobe};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::shape::geometry::GeometryNeeds;
@@ -413,6 +413,26 @@ fn material(desc: &MaterialDesc) -> Material {
             alpha_x: *alpha_u,
             alpha_y: *alpha_v,
         },
+        MaterialDesc::GlossyTranslucent {
+            diffuse,
+            transmittance,
+            front,
+            back,
+        } => {
+            let coating = |c: &GlossyCoatingDesc| GlossyCoating {
+                specular: color(&c.specular),
+                absorption: color(&c.absorption),
+                depth: c.depth,
+                roughness: c.roughness,
+                multibounce: c.multibounce,
+            };
+            Material::GlossyTranslucent {
+                diffuse: color(diffuse),
+                transmittance: color(transmittance),
+                front: coating(front),
+                back: coating(back),
+            }
+        }
         MaterialDesc::DiffuseTranslucent {
             reflectance,
             transmittance,

@@ -157,6 +157,7 @@ impl Parser {
             }
             "metal" => self.metal(line, params)?,
             "mattetranslucent" => self.matte_translucent(line, params)?,
+            "glossytranslucent" => self.glossy_translucent(line, params)?,
             "shinymetal" => self.shiny_metal(line, params)?,
             // `materials/velvet.cpp` (1.x): Kd 0.3, p1 -2, p2 20, p3 2 (each clamped to
             // [-100, 100]), thickness 0.1 (clamped to [0, 1]).
@@ -371,7 +372,7 @@ impl Parser {
     /// A float parameter that may name a texture: a number or a `constant` texture gives its
     /// value; a varying texture is not evaluated per hit for these parameters (a warning, then
     /// the default).
-    fn constant_float(
+    pub(super) fn constant_float(
         &mut self,
         params: &mut ParamList,
         name: &str,
