@@ -1543,18 +1543,46 @@ fn directlighting_is_the_ray_caster_and_integrators_foton_lacks_warn_once() {
     }
 }
 
+/// `glass2`'s index is the shape's interior volume's `fresnel` over its exterior's
+/// (`materials/glass2.cpp`): 1.5 inside alone, 1.5 / 1.33 in water, 1 with no volume (the
+/// interior's default `fresnel` is 1.5); `AttributeEnd` restores the volumes. What foton does
+/// not render (clear absorption, homogeneous scattering) is warned once per kind.
 #[test]
-fn volume_directives_warn_once_with_a_count() {
+fn glass2_takes_its_index_from_the_interior_and_exterior_volumes() {
     let s = scene(
         "volumes",
-        "WorldBegin\nMakeNamedVolume \"glass\" \"clear\" \"float fresnel\" [1.5]\n\
-         Interior \"glass\"\nExterior \"world\"\nShape \"sphere\"\nInterior \"glass\"\nWorldEnd\n",
+        "WorldBegin\nMakeNamedVolume \"glass\" \"clear\" \"float fresnel\" [1.5] \
+         \"color absorption\" [1 0 0]\n\
+         MakeNamedVolume \"water\" \"homogeneous\" \"float fresnel\" [1.33] \"color sigma_s\" [1 1 1]\n\
+         MakeNamedVolume \"default\" \"clear\"\n\
+         Material \"glass2\"\nShape \"sphere\"\n\
+         AttributeBegin\nInterior \"glass\"\nShape \"sphere\"\nExterior \"water\"\nShape \"sphere\"\n\
+         Shape \"sphere\"\nAttributeEnd\nShape \"sphere\"\n\
+         Interior \"default\"\nShape \"sphere\"\nWorldEnd\n",
     );
+    let ior = |k: usize| match &s.materials[s.shapes[k].material.unwrap()] {
+        MaterialDesc::Dielectric { ior, .. } => *ior,
+        other => panic!("{other:?}"),
+    };
+    let iors: Vec<f32> = (0..6).map(ior).collect();
+    assert_eq!(iors, [1.0, 1.5, 1.5 / 1.33, 1.5 / 1.33, 1.0, 1.5]);
+    assert_eq!(s.shapes[2].material, s.shapes[3].material, "made once");
     let w = messages(&s);
-    assert_eq!(w.len(), 1, "{w:?}");
-    assert!(w[0].contains(":2: warning: volumes"), "{w:?}");
-    assert!(w[0].ends_with("(4 times)"), "{w:?}");
-    assert_eq!(s.shapes.len(), 1);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains(":2: warning: volume \"clear\": \"absorption\""),
+        "{w:?}"
+    );
+    assert!(
+        w[1].contains(":3: warning: volume \"homogeneous\""),
+        "{w:?}"
+    );
+    let e = scene("no_volume", "WorldBegin\nInterior \"nothing\"\nWorldEnd\n");
+    assert!(
+        messages(&e)[0].contains("no such volume"),
+        "{:?}",
+        messages(&e)
+    );
 }
 
 #[test]

@@ -119,6 +119,33 @@ impl Parser {
                 transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
                 ior: self.constant_float(params, "index", 1.5, line)?,
             },
+            // `materials/glass2.cpp`: a smooth interface (`architectural`: a thin sheet) whose
+            // index the shape's volumes give (`volumes.rs`); 1 until then, as with no volumes.
+            "glass2" => {
+                if params.bool("dispersion")?.unwrap_or(false) {
+                    self.warn(
+                        line,
+                        "glass2: \"dispersion\" is not rendered (foton is RGB)",
+                    );
+                }
+                let (reflectance, transmittance) = (
+                    ColorParam::Constant(Vec3::ONE),
+                    ColorParam::Constant(Vec3::ONE),
+                );
+                if params.bool("architectural")?.unwrap_or(false) {
+                    MaterialDesc::ThinDielectric {
+                        reflectance,
+                        transmittance,
+                        ior: 1.0,
+                    }
+                } else {
+                    MaterialDesc::Dielectric {
+                        reflectance,
+                        transmittance,
+                        ior: 1.0,
+                    }
+                }
+            }
             // `materials/roughglass.cpp` (LuxRender 1.x): Kr, Kt 1, index 1.5, uroughness and
             // vroughness 0.001 clamped to [6e-3, 1], the same Schlick distribution of r = u v
             // as metal2, so the same GGX alphas. (`cauchyb`, dispersion: not modelled.)
@@ -180,6 +207,18 @@ impl Parser {
                 }
             }
             "carpaint" => self.car_paint(line, params)?,
+            // `materials/scattermaterial.cpp` scatters by a volume's phase function at the
+            // surface; foton has no media.
+            "scatter" => {
+                self.warn(
+                    line,
+                    "material \"scatter\" (a phase function at the surface) is not rendered: grey matte",
+                );
+                params.ignore_all();
+                MaterialDesc::Diffuse {
+                    reflectance: ColorParam::Constant(GREY),
+                }
+            }
             "null" => MaterialDesc::Null,
             "mix" => {
                 let mut named = |key: &str| -> Result<usize, SceneError> {

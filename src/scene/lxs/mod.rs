@@ -17,6 +17,7 @@ mod sky;
 mod sun;
 mod textures;
 mod tokenizer;
+mod volumes;
 
 use std::path::Path;
 

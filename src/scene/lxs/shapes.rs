@@ -98,7 +98,7 @@ impl Parser {
         let mut shape = ShapeDesc {
             geometry,
             object_to_world: self.state.ctm,
-            material: self.state.material,
+            material: self.material_between_volumes(self.state.material),
             area_light: None,
             location: self.location(line),
         };
