@@ -1760,3 +1760,36 @@ fn object_instances_equal_their_shapes_written_out() {
     );
     assert_eq!(e.location.line, 2);
 }
+
+/// LuxRender 1.x's `mesh` takes `quadindices` (4 per quad) beside `triindices`: each quad is
+/// split into two triangles of the same winding, so a unit square and a triangle keep their
+/// area (1.5) and face +z; a count not a multiple of 4, or an index out of range, is an error.
+#[test]
+fn quad_meshes_are_split_into_triangles() {
+    let s = scene(
+        "quads",
+        "WorldBegin\nShape \"mesh\" \"integer quadindices\" [0 1 2 3] \"integer triindices\" [1 4 2] \
+         \"point P\" [0 0 0 1 0 0 1 1 0 0 1 0 2 0 0]\nWorldEnd\n",
+    );
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    let (positions, _, _, indices) = mesh(&s.shapes[0].geometry);
+    assert_eq!(indices, [[1, 4, 2], [0, 1, 2], [0, 2, 3]]);
+    let mut area = 0.0;
+    for &[a, b, c] in indices {
+        let [pa, pb, pc] = [a, b, c].map(|i| positions[i as usize]);
+        let cross = (pb - pa).cross(pc - pa);
+        assert!(cross.z > 0.0);
+        area += 0.5 * cross.length();
+    }
+    assert!((area - 1.5).abs() < 1e-6, "{area}");
+    let e = error(
+        "bad_quads",
+        "WorldBegin\nShape \"trianglemesh\" \"integer quadindices\" [0 1 2] \"point P\" [0 0 0 1 0 0 1 1 0]\nWorldEnd\n",
+    );
+    assert!(e.message.contains("multiple of 4"), "{e}");
+    let e = error(
+        "quad_range",
+        "WorldBegin\nShape \"trianglemesh\" \"integer quadindices\" [0 1 2 7] \"point P\" [0 0 0 1 0 0 1 1 0]\nWorldEnd\n",
+    );
+    assert!(e.message.contains("index 7 out of range"), "{e}");
+}
