@@ -11,15 +11,13 @@ use foton::bsdf::fresnel::{approx_eta, approx_k, fr_dielectric, fr_general};
 use foton::bsdf::{Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ShinyMetal, Velvet};
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use rand_xoshiro::rand_core::{Rng, SeedableRng};
+use rand_xoshiro::rand_core::SeedableRng;
 
+use common::bsdf_estimates::{
+    assert_sample_matches_eval_and_is_reciprocal, quadrature, sampled_albedo, uniform,
+};
 use common::bsdf_outputs::assert_finite_outputs;
 use common::chi_square::DirectionGrid;
-
-/// A uniform number in [0, 1) from the top 24 bits.
-fn uniform(r: &mut Xoshiro256PlusPlus) -> f32 {
-    (r.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
-}
 
 fn wo(theta: f32) -> Vec3 {
     Vec3::new(theta.sin() * 0.6, theta.sin() * 0.8, theta.cos())
@@ -128,20 +126,7 @@ fn samples_match_eval_and_pdf_and_f_is_reciprocal() {
                 continue;
             }
             glossy += 1;
-            let (f, pdf) = (bsdf.eval(w, s.wi), bsdf.pdf(w, s.wi));
-            // The dispatch renormalises wi: at grazing angles the half vector of the sharpest
-            // lobe (r = 2e-4) then moves by enough rounding for a relative 1e-4 in Z.
-            assert!(
-                (s.pdf - pdf).abs() <= 1e-3 * pdf.max(1.0),
-                "{bsdf:?}: {s:?} {pdf}"
-            );
-            assert!((s.f - f).abs().max_element() <= 1e-3 * f.max_element().max(1.0));
-            let back = bsdf.eval(s.wi, w);
-            assert!(
-                (f - back).abs().max_element() <= 1e-4 * f.max_element().max(1e-3),
-                "{bsdf:?} {w} {}: {f} vs {back}",
-                s.wi
-            );
+            assert_sample_matches_eval_and_is_reciprocal(&bsdf, w, &s);
         }
         assert!(glossy > 5_000, "{bsdf:?}: {glossy} non-delta samples");
     }
@@ -171,41 +156,6 @@ fn sampling_histogram_matches_pdf() {
     }
 }
 
-/// The integral of f cos_i over the hemisphere by the midpoint rule in (cos_i, phi), where
-/// dω = d cos dφ.
-fn quadrature(bsdf: &Bsdf, w: Vec3) -> Vec3 {
-    let (nz, nphi) = (600, 1200);
-    let mut sum = Vec3::ZERO;
-    for iz in 0..nz {
-        let z = (iz as f32 + 0.5) / nz as f32;
-        let r = (1.0 - z * z).sqrt();
-        for ip in 0..nphi {
-            let phi = 2.0 * PI * (ip as f32 + 0.5) / nphi as f32;
-            let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-            sum += bsdf.eval(w, wi) * z;
-        }
-    }
-    sum * (2.0 * PI / (nz * nphi) as f32)
-}
-
-/// The directional albedo, the mean of f |cos| / pdf over N samples, and its standard error.
-fn sampled_albedo(bsdf: &Bsdf, w: Vec3, seed: u64) -> (Vec3, Vec3) {
-    const N: usize = 200_000;
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let (mut sum, mut sum2) = (Vec3::ZERO, Vec3::ZERO);
-    for _ in 0..N {
-        let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
-        if let Some(s) = bsdf.sample(w, u, uniform(&mut rng)) {
-            let x = s.f * s.wi.z.abs() / s.pdf;
-            sum += x;
-            sum2 += x * x;
-        }
-    }
-    let mean = sum / N as f32;
-    let variance = (sum2 / N as f32 - mean * mean).max(Vec3::ZERO);
-    (mean, (variance / N as f32).powf(0.5))
-}
-
 /// The importance-sampled albedo equals the quadrature of eval (plus, for shinymetal, the
 /// mirror's Fresnel reflectance F(cos_o), its known delta part) within 5 standard errors of
 /// the sampled mean (measured from the samples) plus 0.5% for the quadrature.
@@ -214,7 +164,7 @@ fn sampled_albedo_matches_quadrature_of_eval() {
     for (i, bsdf) in smooth_cases().into_iter().enumerate() {
         for theta in [0.2f32, 0.9, 1.3] {
             let w = wo(theta);
-            let mut expected = quadrature(&bsdf, w);
+            let mut expected = quadrature(&bsdf, w, 0.0);
             if let Bsdf::ShinyMetal(m) = bsdf {
                 expected += fr_general(w.z, approx_eta(m.mirror), approx_k(m.mirror));
             }

@@ -471,3 +471,112 @@ fn matte_translucent_sigma_makes_oren_nayar_lobes() {
         );
     }
 }
+
+/// `glossytranslucent`: LuxRender 1.x's defaults (Kd, Kt, Ks 1, roughness 0.1 squared), the
+/// index scaling Ks by ((n - 1) / (n + 1))^2, the front coating copied to the back unless
+/// `onesided` is false, then the `backface_*` parameters with their own defaults (0: black,
+/// the roughness clamped to 6e-3).
+#[test]
+fn glossytranslucent_reads_both_coatings() {
+    let read = |name: &str, params: &str| {
+        let s = quad_scene(name, &format!("Material \"glossytranslucent\" {params}"));
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        match s.materials.last().unwrap().clone() {
+            MaterialDesc::GlossyTranslucent {
+                diffuse,
+                transmittance,
+                front,
+                back,
+            } => (diffuse, transmittance, front, back),
+            other => panic!("{other:?}"),
+        }
+    };
+    let constant = |c: ColorParam| match c {
+        ColorParam::Constant(c) => c,
+        other => panic!("{other:?}"),
+    };
+    let (kd, kt, front, back) = read("gt_defaults", "");
+    assert_eq!((constant(kd), constant(kt)), (Vec3::ONE, Vec3::ONE));
+    assert_eq!(constant(front.specular), Vec3::ONE);
+    assert!((front.roughness - 0.01).abs() < 1e-7);
+    assert!(!front.multibounce);
+    assert_eq!(front, back);
+    let (_, _, front, back) = read(
+        "gt_two_sided",
+        "\"float index\" [1.5] \"bool multibounce\" [\"true\"] \"float d\" [0.3] \
+         \"bool onesided\" [\"false\"] \"color backface_Ks\" [0.5 0.5 0.5] \
+         \"float backface_uroughness\" [0.5]",
+    );
+    assert!((constant(front.specular).x - 0.04).abs() < 1e-6);
+    assert!(front.multibounce && front.depth == 0.3);
+    assert_eq!(constant(back.specular), Vec3::splat(0.5));
+    assert!(
+        (back.roughness - 0.5 * 6e-3).abs() < 1e-7,
+        "{}",
+        back.roughness
+    );
+    assert!(!back.multibounce && back.depth == 0.0);
+}
+
+/// A sphere in front of a checkered wall, lit by a point light placed so that the sphere's
+/// shadow (shadow rays do not pass through glass) falls outside the view, rendered by the ray
+/// caster (`directlighting`: the specular chains through the glass followed, direct light at
+/// the wall): `sphere` is the sphere's material and volume lines.
+fn glass_sphere_image(name: &str, sphere: &str) -> Vec<Vec3> {
+    let text = format!(
+        "LookAt 0 -4 1  0 0 1  0 0 1\nCamera \"perspective\" \"float fov\" [40]\n\
+         Film \"fleximage\" \"integer xresolution\" [48] \"integer yresolution\" [48]\n\
+         SurfaceIntegrator \"directlighting\" \"integer maxdepth\" [8]\n\
+         WorldBegin\nLightSource \"point\" \"point from\" [8 -1 1] \"color L\" [100 100 100]\n\
+         Texture \"checks\" \"color\" \"checkerboard\" \"float uscale\" [8] \"float vscale\" [8] \
+         \"color tex1\" [0.9 0.9 0.9] \"color tex2\" [0.1 0.1 0.1]\n\
+         AttributeBegin\nMaterial \"matte\" \"texture Kd\" \"checks\"\n\
+         Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \
+         \"point P\" [-3 2 -1 3 2 -1 3 2 4 -3 2 4] \"float uv\" [0 0 1 0 1 1 0 1]\nAttributeEnd\n\
+         AttributeBegin\nTranslate 0 0 1\n{sphere}\nShape \"sphere\" \"float radius\" [0.8]\n\
+         AttributeEnd\nWorldEnd\n"
+    );
+    let dir = std::env::temp_dir().join(format!("foton-glass2-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.lxs");
+    std::fs::write(&path, text).unwrap();
+    let desc = foton::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    common::render(desc, &common::options(4, 8))
+}
+
+/// `glass2` inside a volume of `fresnel` 1.5 renders as `glass` of index 1.5, bit for bit;
+/// inside a volume of `fresnel` 1 the interface neither reflects nor bends, so the sphere is
+/// invisible: the image is the one without it (the ray caster's paths through the sphere
+/// carry weight 1 exactly, so the two differ only where the sphere's rounding moves a ray by
+/// an ulp: at most a handful of the 2,304 pixels, none by more than the wall's contrast).
+#[test]
+fn glass2_in_a_volume_renders_as_glass_of_its_index() {
+    let glass = glass_sphere_image("glass", "Material \"glass\" \"float index\" [1.5]");
+    let glass2 = glass_sphere_image(
+        "glass2",
+        "MakeNamedVolume \"v\" \"clear\" \"float fresnel\" [1.5]\nInterior \"v\"\nMaterial \"glass2\"",
+    );
+    assert_eq!(glass, glass2);
+    let unit = glass_sphere_image(
+        "glass2_unit",
+        "MakeNamedVolume \"v\" \"clear\" \"float fresnel\" [1]\nInterior \"v\"\nMaterial \"glass2\"",
+    );
+    let without = glass_sphere_image("none", "Material \"null\"");
+    let differing = |a: &[Vec3], b: &[Vec3]| {
+        a.iter()
+            .zip(b)
+            .filter(|(x, y)| (**x - **y).abs().max_element() > 1e-4)
+            .count()
+    };
+    assert!(
+        differing(&glass, &without) > 200,
+        "the glass sphere shows: {}",
+        differing(&glass, &without)
+    );
+    assert!(
+        differing(&unit, &without) <= 5,
+        "the index-1 sphere is invisible: {} pixels differ",
+        differing(&unit, &without)
+    );
+}

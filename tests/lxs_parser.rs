@@ -1657,18 +1657,46 @@ fn directlighting_is_the_ray_caster_and_integrators_foton_lacks_warn_once() {
     }
 }
 
+/// `glass2`'s index is the shape's interior volume's `fresnel` over its exterior's
+/// (`materials/glass2.cpp`): 1.5 inside alone, 1.5 / 1.33 in water, 1 with no volume (the
+/// interior's default `fresnel` is 1.5); `AttributeEnd` restores the volumes. What foton does
+/// not render (clear absorption, homogeneous scattering) is warned once per kind.
 #[test]
-fn volume_directives_warn_once_with_a_count() {
+fn glass2_takes_its_index_from_the_interior_and_exterior_volumes() {
     let s = scene(
         "volumes",
-        "WorldBegin\nMakeNamedVolume \"glass\" \"clear\" \"float fresnel\" [1.5]\n\
-         Interior \"glass\"\nExterior \"world\"\nShape \"sphere\"\nInterior \"glass\"\nWorldEnd\n",
+        "WorldBegin\nMakeNamedVolume \"glass\" \"clear\" \"float fresnel\" [1.5] \
+         \"color absorption\" [1 0 0]\n\
+         MakeNamedVolume \"water\" \"homogeneous\" \"float fresnel\" [1.33] \"color sigma_s\" [1 1 1]\n\
+         MakeNamedVolume \"default\" \"clear\"\n\
+         Material \"glass2\"\nShape \"sphere\"\n\
+         AttributeBegin\nInterior \"glass\"\nShape \"sphere\"\nExterior \"water\"\nShape \"sphere\"\n\
+         Shape \"sphere\"\nAttributeEnd\nShape \"sphere\"\n\
+         Interior \"default\"\nShape \"sphere\"\nWorldEnd\n",
     );
+    let ior = |k: usize| match &s.materials[s.shapes[k].material.unwrap()] {
+        MaterialDesc::Dielectric { ior, .. } => *ior,
+        other => panic!("{other:?}"),
+    };
+    let iors: Vec<f32> = (0..6).map(ior).collect();
+    assert_eq!(iors, [1.0, 1.5, 1.5 / 1.33, 1.5 / 1.33, 1.0, 1.5]);
+    assert_eq!(s.shapes[2].material, s.shapes[3].material, "made once");
     let w = messages(&s);
-    assert_eq!(w.len(), 1, "{w:?}");
-    assert!(w[0].contains(":2: warning: volumes"), "{w:?}");
-    assert!(w[0].ends_with("(4 times)"), "{w:?}");
-    assert_eq!(s.shapes.len(), 1);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains(":2: warning: volume \"clear\": \"absorption\""),
+        "{w:?}"
+    );
+    assert!(
+        w[1].contains(":3: warning: volume \"homogeneous\""),
+        "{w:?}"
+    );
+    let e = scene("no_volume", "WorldBegin\nInterior \"nothing\"\nWorldEnd\n");
+    assert!(
+        messages(&e)[0].contains("no such volume"),
+        "{:?}",
+        messages(&e)
+    );
 }
 
 #[test]
@@ -1761,14 +1789,32 @@ fn disk_and_cylinder_shapes() {
     }
 }
 
+/// The shapes a scene draws, its instances expanded into their groups' members placed by
+/// the instance's map (as `scene::build` places them).
+fn expanded_shapes(scene: &SceneDesc) -> Vec<foton::scene::desc::ShapeDesc> {
+    (scene.shapes.iter())
+        .flat_map(|shape| match shape.geometry {
+            Geometry::Instance { group } => (scene.shape_groups[group].iter())
+                .map(|member| foton::scene::desc::ShapeDesc {
+                    object_to_world: shape.object_to_world * member.object_to_world,
+                    ..member.clone()
+                })
+                .collect(),
+            _ => vec![shape.clone()],
+        })
+        .collect()
+}
+
 /// `ObjectInstance` draws the object's shapes under the instance's transformation times their
-/// own: the same shapes as writing them out in place.
+/// own: the same shapes as writing them out in place. The object is one shape group placed
+/// twice; its emitting shape is copied into each instance instead.
 #[test]
 fn object_instances_equal_their_shapes_written_out() {
     let instanced = scene(
         "instanced",
         "WorldBegin\nMaterial \"matte\"\nObjectBegin \"pair\"\nTranslate 0 0 1\n\
-         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nObjectEnd\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\n\
+         AttributeBegin\nAreaLightSource \"area\" \"color L\" [1 1 1]\nShape \"disk\" \"float radius\" [0.1]\nAttributeEnd\nObjectEnd\n\
          Shape \"sphere\" \"float radius\" [3]\n\
          AttributeBegin\nTranslate 5 0 0\nObjectInstance \"pair\"\nAttributeEnd\n\
          AttributeBegin\nRotate 90 0 0 1\nScale 2 2 2\nObjectInstance \"pair\"\nAttributeEnd\nWorldEnd\n",
@@ -1777,14 +1823,34 @@ fn object_instances_equal_their_shapes_written_out() {
         "written_out",
         "WorldBegin\nMaterial \"matte\"\nShape \"sphere\" \"float radius\" [3]\n\
          AttributeBegin\nTranslate 5 0 0\nTranslate 0 0 1\n\
-         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nAttributeEnd\n\
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\n\
+         AreaLightSource \"area\" \"color L\" [1 1 1]\nShape \"disk\" \"float radius\" [0.1]\nAttributeEnd\n\
          AttributeBegin\nRotate 90 0 0 1\nScale 2 2 2\nTranslate 0 0 1\n\
-         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\nAttributeEnd\nWorldEnd\n",
+         Shape \"sphere\" \"float radius\" [0.5]\nShape \"disk\" \"float radius\" [2]\n\
+         AreaLightSource \"area\" \"color L\" [1 1 1]\nShape \"disk\" \"float radius\" [0.1]\nAttributeEnd\nWorldEnd\n",
     );
     assert!(instanced.warnings.is_empty(), "{:?}", messages(&instanced));
-    assert_eq!(instanced.shapes.len(), 5);
-    assert_eq!(instanced.shapes.len(), written_out.shapes.len());
-    for (a, b) in instanced.shapes.iter().zip(&written_out.shapes) {
+    assert_eq!(instanced.shape_groups.len(), 1);
+    assert_eq!(instanced.shape_groups[0].len(), 2);
+    let instances = (instanced.shapes.iter())
+        .filter(|s| matches!(s.geometry, Geometry::Instance { .. }))
+        .count();
+    assert_eq!(instances, 2);
+    // Shape order aside (each instance, then its copied emitter), the same shapes.
+    let key = |s: &foton::scene::desc::ShapeDesc| {
+        let t = s.object_to_world.w_axis;
+        (
+            format!("{:?}", s.geometry),
+            [t.x, t.y, t.z].map(|v| (v * 1e3).round() as i64),
+        )
+    };
+    let mut a = expanded_shapes(&instanced);
+    let mut b = expanded_shapes(&written_out);
+    a.sort_by_key(key);
+    b.sort_by_key(key);
+    assert_eq!(a.len(), 7);
+    assert_eq!(a.len(), b.len());
+    for (a, b) in a.iter().zip(&b) {
         assert!(
             a.object_to_world.abs_diff_eq(b.object_to_world, 1e-5),
             "{} {}",
@@ -1793,14 +1859,51 @@ fn object_instances_equal_their_shapes_written_out() {
         );
         assert_eq!(format!("{:?}", a.geometry), format!("{:?}", b.geometry));
         assert_eq!(a.material, b.material);
+        assert_eq!(a.area_light.is_some(), b.area_light.is_some());
     }
     assert_eq!(
         instanced.notes,
-        ["2 ObjectInstance of 1 objects flattened into 4 shapes"]
+        [
+            "2 ObjectInstance of 1 objects: 4 shapes placed as instances of shared shapes, \
+          2 emitting shapes copied (the instance level emits no light)"
+        ]
     );
     let e = error(
         "no_object",
         "WorldBegin\nObjectInstance \"nothing\"\nWorldEnd\n",
     );
     assert_eq!(e.location.line, 2);
+}
+
+/// LuxRender 1.x's `mesh` takes `quadindices` (4 per quad) beside `triindices`: each quad is
+/// split into two triangles of the same winding, so a unit square and a triangle keep their
+/// area (1.5) and face +z; a count not a multiple of 4, or an index out of range, is an error.
+#[test]
+fn quad_meshes_are_split_into_triangles() {
+    let s = scene(
+        "quads",
+        "WorldBegin\nShape \"mesh\" \"integer quadindices\" [0 1 2 3] \"integer triindices\" [1 4 2] \
+         \"point P\" [0 0 0 1 0 0 1 1 0 0 1 0 2 0 0]\nWorldEnd\n",
+    );
+    assert!(s.warnings.is_empty(), "{:?}", messages(&s));
+    let (positions, _, _, indices) = mesh(&s.shapes[0].geometry);
+    assert_eq!(indices, [[1, 4, 2], [0, 1, 2], [0, 2, 3]]);
+    let mut area = 0.0;
+    for &[a, b, c] in indices {
+        let [pa, pb, pc] = [a, b, c].map(|i| positions[i as usize]);
+        let cross = (pb - pa).cross(pc - pa);
+        assert!(cross.z > 0.0);
+        area += 0.5 * cross.length();
+    }
+    assert!((area - 1.5).abs() < 1e-6, "{area}");
+    let e = error(
+        "bad_quads",
+        "WorldBegin\nShape \"trianglemesh\" \"integer quadindices\" [0 1 2] \"point P\" [0 0 0 1 0 0 1 1 0]\nWorldEnd\n",
+    );
+    assert!(e.message.contains("multiple of 4"), "{e}");
+    let e = error(
+        "quad_range",
+        "WorldBegin\nShape \"trianglemesh\" \"integer quadindices\" [0 1 2 7] \"point P\" [0 0 0 1 0 0 1 1 0]\nWorldEnd\n",
+    );
+    assert!(e.message.contains("index 7 out of range"), "{e}");
 }

@@ -18,6 +18,7 @@ mod dielectric;
 pub mod diffuse_translucent;
 pub mod frame;
 pub mod fresnel;
+pub mod glossy_translucent;
 mod lambertian;
 pub mod microfacet;
 pub mod microfacet_distribution;
@@ -38,6 +39,7 @@ pub use conductor::{ConductorFresnel, RoughConductor};
 use dielectric::Dielectric;
 pub use diffuse_translucent::DiffuseTranslucent;
 use glam::{Vec2, Vec3};
+pub use glossy_translucent::GlossyTranslucent;
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
 use microfacet_distribution::{Masking, Microfacet};
@@ -103,6 +105,9 @@ pub enum Bsdf {
     Velvet(Velvet),
     /// Three Schlick microfacet lobes over a diffuse base (LuxRender's `carpaint`).
     CarPaint(CarPaint),
+    /// Glossy coatings on both sides of a diffusely transmitting sheet (LuxRender's
+    /// `glossytranslucent`).
+    GlossyTranslucent(GlossyTranslucent),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -229,6 +234,7 @@ impl Bsdf {
             Bsdf::ShinyMetal(m) => m.eval(wo, wi),
             Bsdf::Velvet(v) => v.eval(wo, wi),
             Bsdf::CarPaint(c) => c.eval(wo, wi),
+            Bsdf::GlossyTranslucent(g) => g.eval(wo, wi),
             Bsdf::SpecularReflection { .. }
             | Bsdf::Dielectric { .. }
             | Bsdf::ThinDielectric(_)
@@ -256,6 +262,7 @@ impl Bsdf {
             Bsdf::ShinyMetal(m) => m.pdf(wo, wi),
             Bsdf::Velvet(v) => v.pdf(wo, wi),
             Bsdf::CarPaint(c) => c.pdf(wo, wi),
+            Bsdf::GlossyTranslucent(g) => g.pdf(wo, wi),
             Bsdf::SpecularReflection { .. }
             | Bsdf::Dielectric { .. }
             | Bsdf::ThinDielectric(_)
@@ -301,6 +308,7 @@ impl Bsdf {
             Bsdf::ShinyMetal(m) => m.sample(wo, u, canonical(uc)),
             Bsdf::Velvet(v) => v.sample(wo, u),
             Bsdf::CarPaint(c) => c.sample(wo, u),
+            Bsdf::GlossyTranslucent(g) => g.sample(wo, u, canonical(uc)),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -333,7 +341,10 @@ impl Bsdf {
     /// True for an interface between an inside and an outside, whose lobes depend on the side
     /// `wo` is on: the shading normal must not be turned towards the viewer.
     pub fn has_inside(&self) -> bool {
-        matches!(self, Bsdf::Dielectric { .. } | Bsdf::RoughDielectric(_))
+        matches!(
+            self,
+            Bsdf::Dielectric { .. } | Bsdf::RoughDielectric(_) | Bsdf::GlossyTranslucent(_)
+        )
     }
 
     /// A grey-level estimate of reflectance, for Russian roulette and for the
@@ -367,6 +378,7 @@ impl Bsdf {
             Bsdf::ShinyMetal(m) => m.albedo(),
             Bsdf::Velvet(v) => v.reflectance,
             Bsdf::CarPaint(c) => c.albedo(),
+            Bsdf::GlossyTranslucent(g) => g.albedo(),
         }
     }
 }

@@ -38,7 +38,7 @@ fn schlick_z(r: f32, h: Vec3) -> f32 {
 }
 
 /// Schlick's shadowing G1(c) = c / (c (1 - r) + r) of one direction.
-fn schlick_g(r: f32, c: f32) -> f32 {
+pub(super) fn schlick_g(r: f32, c: f32) -> f32 {
     c / (c * (1.0 - r) + r)
 }
 

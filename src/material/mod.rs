@@ -9,14 +9,15 @@ use std::cell::Cell;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
+use crate::bsdf::glossy_translucent::Coating;
 use crate::bsdf::microfacet::TrowbridgeReitz;
 use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::{
-    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic,
-    RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal, SmoothConductor, ThinDielectric,
-    Velvet,
+    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent,
+    GlossyTranslucent, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal,
+    SmoothConductor, ThinDielectric, Velvet,
 };
 use crate::texture::ShadingPoint;
 use bump::BumpMap;
@@ -132,6 +133,14 @@ pub enum Material {
         depth: f32,
         lobes: [PaintLobe; 3],
     },
+    /// LuxRender's `glossytranslucent`: a coating on each side of a diffusely transmitting
+    /// sheet over the diffuse base `diffuse`.
+    GlossyTranslucent {
+        diffuse: Color,
+        transmittance: Color,
+        front: GlossyCoating,
+        back: GlossyCoating,
+    },
     /// Rays pass through.
     Null,
     /// `amount` (a float input) of material `second`, `1 - amount` of `first`.
@@ -149,6 +158,17 @@ pub enum Material {
     OneSided {
         material: usize,
     },
+}
+
+/// One side's coating of [`Material::GlossyTranslucent`]: as [`Material::CoatedGlossy`]'s, and
+/// its `multibounce` switch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlossyCoating {
+    pub specular: Color,
+    pub absorption: Color,
+    pub depth: f32,
+    pub roughness: f32,
+    pub multibounce: bool,
 }
 
 /// One specular lobe of [`Material::CarPaint`]: its colour, normal-incidence Fresnel
@@ -397,6 +417,28 @@ impl Inputs<'_> {
                 alpha_x: *alpha_x,
                 alpha_y: *alpha_y,
             },
+            Material::GlossyTranslucent {
+                diffuse,
+                transmittance,
+                front,
+                back,
+            } => {
+                let coating = |c: &GlossyCoating| Coating {
+                    lobe: CoatedGlossy {
+                        diffuse: color(diffuse),
+                        specular: color(&c.specular),
+                        absorption: color(&c.absorption),
+                        depth: c.depth,
+                        roughness: c.roughness,
+                    },
+                    multibounce: c.multibounce,
+                };
+                Bsdf::GlossyTranslucent(GlossyTranslucent {
+                    front: coating(front),
+                    back: coating(back),
+                    transmittance: color(transmittance),
+                })
+            }
             Material::DiffuseTranslucent {
                 reflectance,
                 transmittance,

@@ -8,7 +8,7 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::desc::{
-    ColorParam, FilterKind, Geometry, ImageTexture, LightDesc, MaterialDesc,
+    ColorParam, FilterKind, Geometry, GlossyCoatingDesc, ImageTexture, LightDesc, MaterialDesc,
     MicrofacetDistribution, Roughness, SceneDesc, ShapeDesc, ToneMap,
 };
 use crate::bsdf::microfacet::clamp_alpha;
@@ -26,7 +26,7 @@ use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
 use crate::material::bump::BumpMap;
 use crate::material::texture::{self, TextureTable};
-use crate::material::{Color, Material, MaterialTable, PaintLobe};
+use crate::material::{Color, GlossyCoating, Material, MaterialTable, PaintLobe};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::shape::geometry::GeometryNeeds;
@@ -146,22 +146,15 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
             Geometry::Instance { group } => {
                 let members = desc.shape_groups.get(*group).map_or(&[][..], Vec::as_slice);
                 for (k, member) in members.iter().enumerate() {
-                    let Geometry::TriangleMesh {
-                        positions, indices, ..
-                    } = &member.geometry
-                    else {
-                        continue;
-                    };
-                    let triangles = shared_meshes.entry((*group, k)).or_insert_with(|| {
-                        let to_group = Affine3A::from_mat4(member.object_to_world);
-                        let p = |i: u32| to_group.transform_point3(positions[i as usize]);
-                        Arc::new(indices.iter().map(|t| t.map(p)).collect::<Vec<_>>())
-                    });
+                    let shared = shared_meshes
+                        .entry((*group, k))
+                        .or_insert_with(|| shared_mesh(member, needs_uvs));
+                    let Some(mesh) = shared else { continue };
                     let material = member.material.unwrap_or(default_material) as u32;
                     world.spawn((
                         InstancedMesh {
-                            triangles: Arc::clone(triangles),
                             object_to_world: to_world,
+                            ..mesh.clone()
                         },
                         SurfaceMaterial(material),
                     ));
@@ -307,6 +300,34 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
     (world, notes)
 }
 
+/// A shape group's member as a mesh to share between instances: its triangles, normals and
+/// (where the scene samples textures) uvs per triangle in the group's space; `None` for a
+/// member that is not a mesh. It is placed at the identity; each instance sets its own map.
+fn shared_mesh(member: &ShapeDesc, needs_uvs: bool) -> Option<InstancedMesh> {
+    let Geometry::TriangleMesh {
+        positions,
+        normals,
+        uvs,
+        indices,
+    } = &member.geometry
+    else {
+        return None;
+    };
+    let to_group = Affine3A::from_mat4(member.object_to_world);
+    let normal_matrix = to_group.matrix3.inverse().transpose();
+    let p = |i: u32| to_group.transform_point3(positions[i as usize]);
+    Some(InstancedMesh {
+        triangles: Arc::new(indices.iter().map(|t| t.map(p)).collect()),
+        normals: normals.as_ref().map(|ns| {
+            let n = |i: u32| Vec3::from(normal_matrix * glam::Vec3A::from(ns[i as usize]));
+            Arc::new(indices.iter().map(|t| t.map(n)).collect())
+        }),
+        uvs: (uvs.as_ref().filter(|_| needs_uvs))
+            .map(|uvs| Arc::new(indices.iter().map(|t| t.map(|i| uvs[i as usize])).collect())),
+        object_to_world: Affine3A::IDENTITY,
+    })
+}
+
 fn spawn_camera(
     world: &mut World,
     desc: &SceneDesc,
@@ -392,6 +413,26 @@ fn material(desc: &MaterialDesc) -> Material {
             alpha_x: *alpha_u,
             alpha_y: *alpha_v,
         },
+        MaterialDesc::GlossyTranslucent {
+            diffuse,
+            transmittance,
+            front,
+            back,
+        } => {
+            let coating = |c: &GlossyCoatingDesc| GlossyCoating {
+                specular: color(&c.specular),
+                absorption: color(&c.absorption),
+                depth: c.depth,
+                roughness: c.roughness,
+                multibounce: c.multibounce,
+            };
+            Material::GlossyTranslucent {
+                diffuse: color(diffuse),
+                transmittance: color(transmittance),
+                front: coating(front),
+                back: coating(back),
+            }
+        }
         MaterialDesc::DiffuseTranslucent {
             reflectance,
             transmittance,

@@ -358,6 +358,15 @@ pub enum MaterialDesc {
         depth: f32,
         lobes: [CarPaintLobeDesc; 3],
     },
+    /// A thin translucent sheet (LuxRender's `glossytranslucent`): on each side a glossy
+    /// coating over the diffuse base `diffuse`, and diffuse transmission of `transmittance`
+    /// through both coatings. `front` is on the side the normal points to.
+    GlossyTranslucent {
+        diffuse: ColorParam,
+        transmittance: ColorParam,
+        front: GlossyCoatingDesc,
+        back: GlossyCoatingDesc,
+    },
     /// Invisible: rays pass through (for light emitters).
     Null,
     /// `amount` of `second`, `1 - amount` of `first`.
@@ -376,6 +385,18 @@ pub enum MaterialDesc {
     /// `material` seen from the side its surface's normal faces, black from the back (Mitsuba's
     /// reflecting BSDFs outside `twosided`). Any other material scatters from both sides.
     OneSided { material: MaterialId },
+}
+
+/// One side's coating of [`MaterialDesc::GlossyTranslucent`], as in
+/// [`MaterialDesc::CoatedDiffuse`]; `multibounce` adds Schlick's interreflection in the
+/// coating's creases.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlossyCoatingDesc {
+    pub specular: ColorParam,
+    pub absorption: ColorParam,
+    pub depth: f32,
+    pub roughness: f32,
+    pub multibounce: bool,
 }
 
 /// One specular lobe of [`MaterialDesc::CarPaint`]: its colour, its Fresnel reflectance at

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use bevy_ecs::prelude::*;
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Affine3A, Mat3, Vec2, Vec3};
 
 use super::{
     AreaEmitter, FLAT_NORMAL_COS, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh,
@@ -51,6 +51,13 @@ pub struct SceneGeometry {
     /// Shared meshes (object-space triangles) and their placed copies.
     pub meshes: Vec<Vec<[Vec3; 3]>>,
     pub instances: Vec<MeshInstance>,
+    /// Per-triangle object-space vertex normals of each shared mesh (face normals for a mesh
+    /// without), and each instance's map for normals (the inverse transpose of its linear
+    /// part); both empty when no shared mesh has normals.
+    pub mesh_normals: Vec<Vec<[Vec3; 3]>>,
+    pub instance_normal_matrices: Vec<Mat3>,
+    /// Per-triangle uvs of each shared mesh; empty unless the scene samples textures.
+    pub mesh_uvs: Vec<Vec<[Vec2; 3]>>,
     /// Material index of each primitive, by id.
     pub material: Vec<u32>,
     /// The primitives shadow rays pass through (null material); `None` if there are none.
@@ -120,20 +127,14 @@ pub fn build_scene_geometry(
         for tri in &mesh.indices {
             let [a, b, c] = tri.map(|i| i as usize);
             triangles.push([mesh.positions[a], mesh.positions[b], mesh.positions[c]]);
+            let vertices = [mesh.positions[a], mesh.positions[b], mesh.positions[c]];
             if any_normals {
-                let face = (mesh.positions[b] - mesh.positions[a])
-                    .cross(mesh.positions[c] - mesh.positions[a])
-                    .normalize_or_zero();
-                triangle_normals.push(match &mesh.normals {
-                    Some(n) => [n[a], n[b], n[c]].map(|n| n.normalize_or(face)),
-                    None => [face; 3],
-                });
+                let normals = (mesh.normals.as_ref()).map(|n| [n[a], n[b], n[c]]);
+                triangle_normals.push(vertex_normals(vertices, normals));
             }
             if needs.uvs {
-                triangle_uvs.push(match &mesh.uvs {
-                    Some(uv) => [uv[a], uv[b], uv[c]],
-                    None => [Vec2::ZERO, Vec2::X, Vec2::ONE],
-                });
+                let uvs = (mesh.uvs.as_ref()).map(|uv| [uv[a], uv[b], uv[c]]);
+                triangle_uvs.push(uvs.unwrap_or(NO_UVS));
             }
             material.push(surface.0);
             emitter.push(id);
@@ -161,16 +162,41 @@ pub fn build_scene_geometry(
     }
 
     // Instance triangles take the ids after the planes, instance by instance (`PrimitiveIds`).
-    // Instanced meshes emit no light.
+    // Instanced meshes emit no light (loaders place emitters as shapes of their own).
+    let any_instance_normals = instanced.iter().any(|(m, _)| m.normals.is_some());
     let mut meshes: Vec<Vec<[Vec3; 3]>> = Vec::new();
+    let mut mesh_normals = Vec::new();
+    let mut mesh_uvs = Vec::new();
     let mut mesh_of: HashMap<*const Vec<[Vec3; 3]>, u32> = HashMap::new();
     let mut instances = Vec::new();
+    let mut instance_normal_matrices = Vec::new();
     for (instance, surface) in &instanced {
         let shared = &instance.triangles;
         let mesh = *mesh_of.entry(Arc::as_ptr(shared)).or_insert_with(|| {
             meshes.push(shared.as_ref().clone());
+            if any_instance_normals {
+                let normals = |k: usize| instance.normals.as_ref().map(|n| n[k]);
+                let per_triangle = shared.iter().enumerate();
+                mesh_normals.push(
+                    per_triangle
+                        .map(|(k, &t)| vertex_normals(t, normals(k)))
+                        .collect(),
+                );
+            }
+            if needs.uvs {
+                let uvs = instance.uvs.as_ref().map_or(&[][..], |uvs| uvs.as_slice());
+                mesh_uvs.push(
+                    (0..shared.len())
+                        .map(|k| *uvs.get(k).unwrap_or(&NO_UVS))
+                        .collect(),
+                );
+            }
             (meshes.len() - 1) as u32
         });
+        if any_instance_normals {
+            let linear = Mat3::from(instance.object_to_world.matrix3);
+            instance_normal_matrices.push(linear.inverse().transpose());
+        }
         instances.push(MeshInstance {
             mesh,
             object_to_world: instance.object_to_world,
@@ -235,6 +261,9 @@ pub fn build_scene_geometry(
         planes: plane_shapes,
         meshes: primitives.meshes,
         instances: primitives.instances,
+        mesh_normals,
+        instance_normal_matrices,
+        mesh_uvs,
         material,
         pass_through,
         emitter,
@@ -263,6 +292,17 @@ impl SceneGeometry {
 /// A triangle's unit normal by its winding; +z for a degenerate one.
 pub fn face_normal(&[p0, p1, p2]: &[Vec3; 3]) -> Vec3 {
     (p1 - p0).cross(p2 - p0).normalize_or(Vec3::Z)
+}
+
+/// The uvs of a triangle whose mesh has none (where the scene samples textures).
+const NO_UVS: [Vec2; 3] = [Vec2::ZERO, Vec2::X, Vec2::ONE];
+
+/// A triangle's vertex normals for shading: the mesh's, a zero one replaced by the face
+/// normal; the face normal at every vertex for a mesh without normals.
+fn vertex_normals(vertices: [Vec3; 3], normals: Option<[Vec3; 3]>) -> [Vec3; 3] {
+    let [a, b, c] = vertices;
+    let face = (b - a).cross(c - a).normalize_or_zero();
+    normals.map_or([face; 3], |n| n.map(|n| n.normalize_or(face)))
 }
 
 /// An emissive shape's primitives, before ids are assigned.

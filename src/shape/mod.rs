@@ -44,10 +44,14 @@ pub fn normals_follow_faces(
 pub const FLAT_NORMAL_COS: f32 = 1.0 - 1e-6;
 
 /// A placed copy of a shared mesh (its triangles in object space): every instance of one mesh
-/// holds the same `Arc`, and the BVH builds that mesh's tree once (`accel::instances`).
+/// holds the same `Arc`s, and the BVH builds that mesh's tree once (`accel::instances`).
 #[derive(Component, Clone, Debug)]
 pub struct InstancedMesh {
     pub triangles: Arc<Vec<[Vec3; 3]>>,
+    /// Per-triangle vertex normals in object space, if the mesh has them.
+    pub normals: Option<Arc<Vec<[Vec3; 3]>>>,
+    /// Per-triangle vertex uvs, if the mesh has them and the scene samples textures.
+    pub uvs: Option<Arc<Vec<[Vec2; 3]>>>,
     pub object_to_world: Affine3A,
 }
 

@@ -29,11 +29,17 @@ impl SceneGeometry {
         let kind = (self.ids.decode(hit.prim)).expect("the accel reports only its own ids");
         let (geometric_normal, shading_normal, uv) = match kind {
             PrimitiveRef::Triangle(i) => self.triangle_surface(i, hit.u, hit.v),
-            // Instanced meshes keep neither normals nor uvs (yet): flat, with barycentric uvs.
-            PrimitiveRef::InstanceTriangle { .. } => {
-                let ng =
-                    face_normal(&(self.world_triangle(kind)).expect("instance ids name triangles"));
-                (ng, ng, Vec2::new(hit.u, hit.v))
+            PrimitiveRef::InstanceTriangle { instance, triangle } => {
+                let p = (self.world_triangle(kind)).expect("instance ids name triangles");
+                let mesh = self.instances[instance].mesh as usize;
+                // Normals go to world space by the instance's normal map before they are
+                // interpolated, as the flattened mesh's were when it was built.
+                let normals = (self.mesh_normals.get(mesh)).map(|normals| {
+                    let to_world = self.instance_normal_matrices[instance];
+                    normals[triangle].map(|n| to_world * n)
+                });
+                let uvs = self.mesh_uvs.get(mesh).map(|uvs| uvs[triangle]);
+                interpolate(face_normal(&p), normals, uvs, hit.u, hit.v)
             }
             PrimitiveRef::Sphere(i) => self.sphere_surface(i, position),
             PrimitiveRef::Plane(i) => {
@@ -61,22 +67,9 @@ impl SceneGeometry {
     }
 
     fn triangle_surface(&self, i: usize, u: f32, v: f32) -> (Vec3, Vec3, Vec2) {
-        let ng = self.face_normals[i];
-        let w = 1.0 - u - v;
-        let ns = match self.triangle_normals.get(i) {
-            Some([n0, n1, n2]) => {
-                let n = (*n0 * w + *n1 * u + *n2 * v).normalize_or(ng);
-                // Keep the shading normal on the geometric side (pbrt-v4 §6.5.3 does the reverse:
-                // here the geometric one defines emission and inside/outside).
-                if n.dot(ng) < 0.0 { -n } else { n }
-            }
-            None => ng,
-        };
-        let uv = match self.triangle_uvs.get(i) {
-            Some([t0, t1, t2]) => *t0 * w + *t1 * u + *t2 * v,
-            None => Vec2::new(u, v),
-        };
-        (ng, ns, uv)
+        let normals = self.triangle_normals.get(i).copied();
+        let uvs = self.triangle_uvs.get(i).copied();
+        interpolate(self.face_normals[i], normals, uvs, u, v)
     }
 
     fn sphere_surface(&self, i: usize, position: Vec3) -> (Vec3, Vec3, Vec2) {
@@ -98,4 +91,30 @@ impl SceneGeometry {
         let uv = Vec2::new(phi / (2.0 * PI), dir.z.clamp(-1.0, 1.0).acos() / PI);
         (n, n, uv)
     }
+}
+
+/// The geometric normal, shading normal and uv at barycentrics (u, v) of a world-space
+/// triangle `p` with (world-space) vertex `normals` and `uvs`, where it has them.
+fn interpolate(
+    ng: Vec3,
+    normals: Option<[Vec3; 3]>,
+    uvs: Option<[Vec2; 3]>,
+    u: f32,
+    v: f32,
+) -> (Vec3, Vec3, Vec2) {
+    let w = 1.0 - u - v;
+    let ns = match normals {
+        Some([n0, n1, n2]) => {
+            let n = (n0 * w + n1 * u + n2 * v).normalize_or(ng);
+            // Keep the shading normal on the geometric side (pbrt-v4 §6.5.3 does the reverse:
+            // here the geometric one defines emission and inside/outside).
+            if n.dot(ng) < 0.0 { -n } else { n }
+        }
+        None => ng,
+    };
+    let uv = match uvs {
+        Some([t0, t1, t2]) => t0 * w + t1 * u + t2 * v,
+        None => Vec2::new(u, v),
+    };
+    (ng, ns, uv)
 }

@@ -25,11 +25,15 @@ impl SceneGeometry {
                         .unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]);
                 triangle_derivatives(self.triangles[i], uvs)
             }
-            // Instanced triangles carry barycentric uvs: p = p0 + u (p1 - p0) + v (p2 - p0).
-            PrimitiveRef::InstanceTriangle { .. } => match self.world_triangle(kind) {
-                Some(p) => triangle_derivatives(p, [Vec2::ZERO, Vec2::X, Vec2::Y]),
-                None => (Vec3::X, Vec3::Y),
-            },
+            PrimitiveRef::InstanceTriangle { instance, triangle } => {
+                let mesh = self.instances[instance].mesh as usize;
+                let uvs = (self.mesh_uvs.get(mesh))
+                    .map_or([Vec2::ZERO, Vec2::X, Vec2::Y], |uvs| uvs[triangle]);
+                match self.world_triangle(kind) {
+                    Some(p) => triangle_derivatives(p, uvs),
+                    None => (Vec3::X, Vec3::Y),
+                }
+            }
             PrimitiveRef::Sphere(i) => {
                 let sphere = &self.spheres[i];
                 let local = sphere.world_to_object.transform_point3(position);

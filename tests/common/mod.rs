@@ -1,6 +1,7 @@
 //! Scenes built in code for the integration tests, and small image helpers.
 #![allow(dead_code)]
 
+pub mod bsdf_estimates;
 pub mod bsdf_outputs;
 pub mod chi_square;
 

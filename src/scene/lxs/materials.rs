@@ -119,6 +119,33 @@ impl Parser {
                 transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
                 ior: self.constant_float(params, "index", 1.5, line)?,
             },
+            // `materials/glass2.cpp`: a smooth interface (`architectural`: a thin sheet) whose
+            // index the shape's volumes give (`volumes.rs`); 1 until then, as with no volumes.
+            "glass2" => {
+                if params.bool("dispersion")?.unwrap_or(false) {
+                    self.warn(
+                        line,
+                        "glass2: \"dispersion\" is not rendered (foton is RGB)",
+                    );
+                }
+                let (reflectance, transmittance) = (
+                    ColorParam::Constant(Vec3::ONE),
+                    ColorParam::Constant(Vec3::ONE),
+                );
+                if params.bool("architectural")?.unwrap_or(false) {
+                    MaterialDesc::ThinDielectric {
+                        reflectance,
+                        transmittance,
+                        ior: 1.0,
+                    }
+                } else {
+                    MaterialDesc::Dielectric {
+                        reflectance,
+                        transmittance,
+                        ior: 1.0,
+                    }
+                }
+            }
             // `materials/roughglass.cpp` (LuxRender 1.x): Kr, Kt 1, index 1.5, uroughness and
             // vroughness 0.001 clamped to [6e-3, 1], the same Schlick distribution of r = u v
             // as metal2, so the same GGX alphas. (`cauchyb`, dispersion: not modelled.)
@@ -157,6 +184,7 @@ impl Parser {
             }
             "metal" => self.metal(line, params)?,
             "mattetranslucent" => self.matte_translucent(line, params)?,
+            "glossytranslucent" => self.glossy_translucent(line, params)?,
             "shinymetal" => self.shiny_metal(line, params)?,
             // `materials/velvet.cpp` (1.x): Kd 0.3, p1 -2, p2 20, p3 2 (each clamped to
             // [-100, 100]), thickness 0.1 (clamped to [0, 1]).
@@ -179,6 +207,18 @@ impl Parser {
                 }
             }
             "carpaint" => self.car_paint(line, params)?,
+            // `materials/scattermaterial.cpp` scatters by a volume's phase function at the
+            // surface; foton has no media.
+            "scatter" => {
+                self.warn(
+                    line,
+                    "material \"scatter\" (a phase function at the surface) is not rendered: grey matte",
+                );
+                params.ignore_all();
+                MaterialDesc::Diffuse {
+                    reflectance: ColorParam::Constant(GREY),
+                }
+            }
             "null" => MaterialDesc::Null,
             "mix" => {
                 let mut named = |key: &str| -> Result<usize, SceneError> {
@@ -371,7 +411,7 @@ impl Parser {
     /// A float parameter that may name a texture: a number or a `constant` texture gives its
     /// value; a varying texture is not evaluated per hit for these parameters (a warning, then
     /// the default).
-    fn constant_float(
+    pub(super) fn constant_float(
         &mut self,
         params: &mut ParamList,
         name: &str,

@@ -3,6 +3,7 @@
 
 mod camera;
 mod car_paint;
+mod glossy_translucent;
 mod lights;
 mod materials;
 mod nk;
@@ -16,6 +17,7 @@ mod sky;
 mod sun;
 mod textures;
 mod tokenizer;
+mod volumes;
 
 use std::path::Path;
 

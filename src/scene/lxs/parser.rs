@@ -7,12 +7,13 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 
 use super::lights::AreaLight;
-use super::objects::OpenObject;
+use super::objects::{InstanceCounts, Object, OpenObject};
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
+use super::volumes::Volumes;
 use crate::scene::desc::{
-    ColorParam, Location, MaterialId, SceneDesc, SceneError, SceneWarning, ShapeDesc,
+    ColorParam, Location, MaterialDesc, MaterialId, SceneDesc, SceneError, SceneWarning,
 };
 use crate::settings::IntegratorKind;
 
@@ -24,6 +25,9 @@ pub(super) struct GraphicsState {
     pub material: Option<MaterialId>,
     pub area_light: Option<AreaLight>,
     pub reverse_orientation: bool,
+    /// `Interior` and `Exterior`: the named volumes inside and outside the shapes that follow.
+    pub interior: Option<String>,
+    pub exterior: Option<String>,
 }
 
 impl Default for GraphicsState {
@@ -33,6 +37,8 @@ impl Default for GraphicsState {
             material: None,
             area_light: None,
             reverse_orientation: false,
+            interior: None,
+            exterior: None,
         }
     }
 }
@@ -112,10 +118,11 @@ pub(super) struct Parser {
     pub named_textures: HashMap<String, ColorParam>,
     /// `ObjectBegin` … `ObjectEnd`: the object being defined, and those defined.
     pub open_object: Option<OpenObject>,
-    pub objects: HashMap<String, Vec<ShapeDesc>>,
-    /// `ObjectInstance`s read, and the shapes they drew.
-    pub instance_count: usize,
-    pub instanced_shapes: usize,
+    pub objects: HashMap<String, Object>,
+    /// What the `ObjectInstance`s read drew.
+    pub instance_counts: InstanceCounts,
+    /// Named volumes and the `glass2` materials that read them.
+    pub volumes: Volumes,
     /// What has been read so far.
     pub scene: SceneDesc,
 }
@@ -135,8 +142,8 @@ impl Parser {
             named_textures: HashMap::new(),
             open_object: None,
             objects: HashMap::new(),
-            instance_count: 0,
-            instanced_shapes: 0,
+            instance_counts: InstanceCounts::default(),
+            volumes: Volumes::default(),
             scene: SceneDesc::empty(Location::line(path, 0)),
         }
     }
@@ -335,12 +342,9 @@ impl Parser {
                 let name = self.one_name(name, line, args)?;
                 self.object_instance(&name, line)?;
             }
-            "MakeNamedVolume" | "Interior" | "Exterior" => {
-                // Participating media: once per kind, with a count (see `once_per_kind`).
-                self.warn(
-                    line,
-                    "volumes (MakeNamedVolume, Interior, Exterior) are not rendered: ignored",
-                );
+            "Interior" | "Exterior" => {
+                let volume = self.one_name(name, line, args)?;
+                self.set_volume(name, &volume, line);
             }
             _ => {
                 let Some(kind) = self.known_with_params(name) else {
@@ -363,6 +367,7 @@ impl Parser {
             "Camera" | "Film" | "Sampler" | "SurfaceIntegrator" | "PixelFilter" | "Material"
             | "MakeNamedMaterial" | "NamedMaterial" | "Shape" | "LightSource"
             | "AreaLightSource" | "Texture" => Some(1),
+            "MakeNamedVolume" => Some(2),
             name if IGNORED_DIRECTIVES.contains(&name) => Some(1),
             _ => None,
         }
@@ -404,14 +409,13 @@ impl Parser {
             "PixelFilter" => self.pixel_filter(first, line, params)?,
             "Material" => {
                 let material = self.material(first, line, params)?;
-                self.scene.materials.push(material);
-                self.state.material = Some(self.scene.materials.len() - 1);
+                let id = self.push_material(first, material);
+                self.state.material = Some(id);
             }
             "MakeNamedMaterial" => {
                 let kind = params.string("type")?.unwrap_or_default();
                 let material = self.material(&kind, line, params)?;
-                self.scene.materials.push(material);
-                let id = self.scene.materials.len() - 1;
+                let id = self.push_material(&kind, material);
                 if self.named_materials.insert(first.to_string(), id).is_some() {
                     self.warn(line, format!("MakeNamedMaterial \"{first}\" redefined"));
                 }
@@ -423,6 +427,7 @@ impl Parser {
                 self.state.material = Some(id);
             }
             "Texture" => self.texture(strings, line, params)?,
+            "MakeNamedVolume" => self.make_named_volume(strings, line, params)?,
             "Shape" => self.shape(first, line, params)?,
             "LightSource" => self.light(first, line, params)?,
             "AreaLightSource" => self.area_light(first, line, params)?,
@@ -430,6 +435,22 @@ impl Parser {
             _ => params.ignore_all(),
         }
         Ok(())
+    }
+
+    /// Adds a material of LuxRender type `kind`, noting a `glass2` (unbumped: a bumped one
+    /// keeps its no-volume index 1), whose index the shapes' volumes set.
+    fn push_material(&mut self, kind: &str, material: MaterialDesc) -> MaterialId {
+        let glass2 = kind == "glass2"
+            && matches!(
+                material,
+                MaterialDesc::Dielectric { .. } | MaterialDesc::ThinDielectric { .. }
+            );
+        self.scene.materials.push(material);
+        let id = self.scene.materials.len() - 1;
+        if glass2 {
+            self.note_glass2(id);
+        }
+        id
     }
 
     fn include(&mut self, target: &str, line: usize) -> Result<(), SceneError> {
@@ -617,13 +638,8 @@ impl Parser {
                 message: "WorldBegin is never closed by WorldEnd".into(),
             });
         }
-        if self.instance_count > 0 {
-            self.scene.notes.push(format!(
-                "{} ObjectInstance of {} objects flattened into {} shapes",
-                self.instance_count,
-                self.objects.len(),
-                self.instanced_shapes
-            ));
+        if let Some(note) = self.instance_note() {
+            self.scene.notes.push(note);
         }
         self.scene.warnings = once_per_kind(std::mem::take(&mut self.scene.warnings));
         Ok(self.scene)

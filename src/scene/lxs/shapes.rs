@@ -98,7 +98,7 @@ impl Parser {
         let mut shape = ShapeDesc {
             geometry,
             object_to_world: self.state.ctm,
-            material: self.state.material,
+            material: self.material_between_volumes(self.state.material),
             area_light: None,
             location: self.location(line),
         };
@@ -107,40 +107,59 @@ impl Parser {
         Ok(())
     }
 
-    /// `trianglemesh`/`mesh`: `indices` (or `triindices`), `P`, optional `N` and `uv` (or `st`).
-    /// A mesh without `P` or indices (LuxBlend writes such) is skipped with a warning.
+    /// `trianglemesh`/`mesh`: `indices` (or `triindices`) and/or `quadindices`, `P`, optional
+    /// `N` and `uv` (or `st`). LuxRender 1.x's `shapes/mesh.cpp` reads quads (4 indices each)
+    /// beside triangles; foton splits each quad a b c d into a b c and a c d (the same surface
+    /// for the planar convex quads LuxRender intersects as quadrilaterals; uvs are then
+    /// interpolated per triangle, not bilinearly). A mesh without `P` or indices (LuxBlend
+    /// writes such) is skipped with a warning.
     fn inline_mesh(
         &mut self,
         kind: &str,
         line: usize,
         params: &mut ParamList,
     ) -> Result<Option<Geometry>, SceneError> {
-        let indices = match params.indices("indices")? {
+        let triangles = match params.indices("indices")? {
             Some(indices) => Some(indices),
             None => params.indices("triindices")?,
         };
+        let quads = params.indices("quadindices")?;
         let positions = params.floats("P", 3)?;
         let normals = params.floats("N", 3)?;
         let uvs = match params.floats("uv", 2)? {
             Some(uvs) => Some(uvs),
             None => params.floats("st", 2)?,
         };
-        let (Some(indices), Some(positions)) = (indices, positions) else {
+        let (Some(positions), true) = (positions, triangles.is_some() || quads.is_some()) else {
             self.warn(
                 line,
                 format!("{kind} without \"P\" or \"indices\": skipped"),
             );
             return Ok(None);
         };
+        let (triangles, quads) = (triangles.unwrap_or_default(), quads.unwrap_or_default());
         let positions: Vec<Vec3> = positions.chunks_exact(3).map(Vec3::from_slice).collect();
         let count = positions.len();
-        if indices.len() % 3 != 0 {
+        if triangles.len() % 3 != 0 {
             return Err(self.error(
                 line,
-                format!("{kind}: {} indices, not a multiple of 3", indices.len()),
+                format!("{kind}: {} indices, not a multiple of 3", triangles.len()),
             ));
         }
-        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= count) {
+        if quads.len() % 4 != 0 {
+            return Err(self.error(
+                line,
+                format!("{kind}: {} quadindices, not a multiple of 4", quads.len()),
+            ));
+        }
+        let split_quads = quads
+            .chunks_exact(4)
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+        let indices: Vec<[u32; 3]> = (triangles.chunks_exact(3))
+            .map(|t| [t[0], t[1], t[2]])
+            .chain(split_quads)
+            .collect();
+        if let Some(&bad) = indices.iter().flatten().find(|&&i| i as usize >= count) {
             return Err(self.error(
                 line,
                 format!("{kind}: index {bad} out of range ({count} vertices)"),
@@ -166,10 +185,7 @@ impl Parser {
             positions,
             normals,
             uvs,
-            indices: indices
-                .chunks_exact(3)
-                .map(|t| [t[0], t[1], t[2]])
-                .collect(),
+            indices,
         }))
     }
 
@@ -206,7 +222,7 @@ impl Parser {
                 );
                 sphere
             }
-            // This loader places no instances.
+            // `Shape` makes no instances (`ObjectInstance` does).
             instance @ Geometry::Instance { .. } => instance,
         }
     }

@@ -13,7 +13,6 @@ use super::{emitters, materials};
 use crate::scene::desc::{Geometry, SceneError, SceneWarning, ShapeDesc};
 use crate::scene::io::ply;
 use crate::scene::io::{TriangleMesh, obj, serialized};
-use crate::shape::normals_follow_faces;
 
 /// Segments around a disk or a cylinder: the area is short by (2 pi / n)^2 / 6, 0.004 %.
 const SEGMENTS: usize = 256;
@@ -205,17 +204,10 @@ fn shape_group(cx: &mut Converter, group: &Object) -> Result<usize, SceneError> 
     }
     let mut members: Vec<ShapeDesc> = cx.desc.shapes.drain(first..).collect();
     for member in &mut members {
-        let mut unsupported = Vec::new();
         if member.area_light.take().is_some() {
-            unsupported.push("its emitter is ignored");
-        }
-        if has_smooth_normals(&member.geometry) {
-            unsupported.push("instanced meshes are shaded with face normals");
-        }
-        if !unsupported.is_empty() {
             cx.desc.warnings.push(SceneWarning {
                 location: member.location.clone(),
-                message: format!("shape in a shapegroup: {}", unsupported.join("; ")),
+                message: "shape in a shapegroup: its emitter is ignored".into(),
             });
         }
     }
@@ -224,19 +216,6 @@ fn shape_group(cx: &mut Converter, group: &Object) -> Result<usize, SceneError> 
     let id = cx.desc.shape_groups.len() - 1;
     cx.shape_groups.insert(key, id);
     Ok(id)
-}
-
-/// Whether a mesh's vertex normals differ from its faces' (instances keep face normals only).
-fn has_smooth_normals(geometry: &Geometry) -> bool {
-    match geometry {
-        Geometry::TriangleMesh {
-            positions,
-            normals: Some(normals),
-            indices,
-            ..
-        } => !normals_follow_faces(positions, normals, indices, 0.999),
-        _ => false,
-    }
 }
 
 fn ply_mesh(path: &std::path::Path) -> Result<TriangleMesh, String> {
