@@ -126,8 +126,8 @@ pub fn build_scene_geometry(
         );
         for tri in &mesh.indices {
             let [a, b, c] = tri.map(|i| i as usize);
-            triangles.push([mesh.positions[a], mesh.positions[b], mesh.positions[c]]);
             let vertices = [mesh.positions[a], mesh.positions[b], mesh.positions[c]];
+            triangles.push(vertices);
             if any_normals {
                 let normals = (mesh.normals.as_ref()).map(|n| [n[a], n[b], n[c]]);
                 triangle_normals.push(vertex_normals(vertices, normals));
