@@ -129,16 +129,28 @@ impl EnvironmentMap {
 }
 
 impl Environment {
+    /// A map of one colour is the constant sky it amounts to: no map, its colour in the radiance.
     pub fn new(light: &InfiniteLight) -> Self {
-        let map = light
+        let image = light
             .map
             .as_ref()
-            .filter(|image| image.width > 0 && image.height > 0)
-            .map(|image| Box::new(EnvironmentMap::new(image, light.light_to_world)));
-        Self {
-            radiance: light.radiance,
-            map,
+            .filter(|image| image.width > 0 && image.height > 0);
+        match image {
+            Some(image) if image.texels.iter().all(|t| *t == image.texels[0]) => Self {
+                radiance: light.radiance * image.texels[0],
+                map: None,
+            },
+            _ => Self {
+                radiance: light.radiance,
+                map: image.map(|image| Box::new(EnvironmentMap::new(image, light.light_to_world))),
+            },
         }
+    }
+
+    /// A sky of one radiance in every direction: next-event estimation under MIS leaves it to
+    /// BSDF sampling ([`Environment::sample_for_mis`]).
+    pub fn is_constant(&self) -> bool {
+        self.map.is_none()
     }
 
     /// Radiance arriving along `-direction` (from `direction`).
@@ -164,8 +176,19 @@ impl Environment {
     /// with `allowIncompletePDF`): BSDF sampling already covers the dim sky well, so light
     /// samples are better spent on what stands out. Unbiased as long as BSDF sampling covers
     /// every direction light sampling now misses, which holds where MIS is used (non-delta
-    /// BSDFs); `pdf_for_mis` is the matching density for the BSDF sample's MIS weight.
+    /// BSDFs; `tests/bsdf_sampling_coverage.rs` checks each kind); `pdf_for_mis` is the matching
+    /// density for the BSDF sample's MIS weight.
+    ///
+    /// A constant sky less its mean is nothing: no sample, density 0 everywhere (pbrt-v4's
+    /// `UniformInfiniteLight::SampleLi` and `PDF_Li` with `allowIncompletePDF`). A BSDF-sampled
+    /// ray that escapes then has MIS weight 1, and the sky's share of the light samples goes
+    /// to the other lights ([`super::LightTable`]). The estimate of the sky's light is then
+    /// L f cos / p_bsdf alone: for a Lambertian surface, sampled by cos / pi, exactly L times
+    /// its albedo wherever the sky is unoccluded, with no variance left.
     pub fn sample_for_mis(&self, u: Vec2) -> Option<LightSample> {
+        if self.is_constant() {
+            return None;
+        }
         self.sample_from(u, true)
     }
 
@@ -201,6 +224,9 @@ impl Environment {
 
     /// Solid-angle density of `sample_for_mis` choosing `direction`.
     pub fn pdf_for_mis(&self, direction: Vec3) -> f32 {
+        if self.is_constant() {
+            return 0.0;
+        }
         self.pdf_from(direction, true)
     }
 

@@ -1,6 +1,7 @@
 //! Lights: point, spot and distant lights and the environment are entities of their own; area
 //! lights are shapes with an `AreaEmitter`. At startup [`build_light_table`] gathers them into
-//! the [`LightTable`] the shade stage samples, choosing lights in proportion to their power.
+//! the [`LightTable`] the shade stage samples, choosing one light for next-event estimation by
+//! the [`LightSelection`].
 
 pub mod area;
 pub mod distant;
@@ -63,6 +64,15 @@ impl Light {
             _ => self.sample(p, u),
         }
     }
+
+    /// Whether `sample_for_mis` can return a sample: not for a constant sky, which BSDF
+    /// sampling alone covers (the path tracer never picks it for next-event estimation).
+    pub fn is_sampled_for_mis(&self) -> bool {
+        match self {
+            Light::Environment(light) => !light.is_constant(),
+            _ => true,
+        }
+    }
 }
 
 /// How next-event estimation picks the one light it samples at a vertex.
@@ -102,24 +112,59 @@ impl LightSelection {
 #[derive(Resource, Clone, Debug)]
 pub struct LightTable {
     pub lights: Vec<Light>,
+    /// Over `selectable`: the lights next-event estimation under MIS can sample.
     selection: AliasTable,
+    /// Indices into `lights` of the selectable lights, in the selection table's order.
+    selectable: Vec<u32>,
+    /// Each light's selection probability (0 for one never selected).
+    probability: Vec<f32>,
     /// Light index of each of the geometry's emissive shapes.
     emitter_light: Vec<u32>,
     environment: Option<u32>,
 }
 
 impl LightTable {
-    /// Picks a light by the table's selection weights, in O(1): (index, probability).
+    /// From all the lights and their powers: the selection weights are computed over the lights
+    /// that next-event estimation samples (a constant sky is not one: [`Light::sample_for_mis`]),
+    /// so the others' share goes to them; their probabilities sum to 1, the rest have 0.
+    fn new(
+        lights: Vec<Light>,
+        power: &[f32],
+        selection: LightSelection,
+        emitter_light: Vec<u32>,
+        environment: Option<u32>,
+    ) -> Self {
+        let selectable: Vec<u32> = (0..lights.len() as u32)
+            .filter(|&i| lights[i as usize].is_sampled_for_mis())
+            .collect();
+        let selectable_power: Vec<f32> = selectable.iter().map(|&i| power[i as usize]).collect();
+        let selection = AliasTable::new(&selection.weights(&selectable_power));
+        let mut probability = vec![0.0; lights.len()];
+        for (k, &i) in selectable.iter().enumerate() {
+            probability[i as usize] = selection.pdf(k);
+        }
+        Self {
+            lights,
+            selection,
+            selectable,
+            probability,
+            emitter_light,
+            environment,
+        }
+    }
+
+    /// Picks the light for next-event estimation by the table's selection weights, in O(1):
+    /// (index, probability); `None` when no light can be sampled that way.
     pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
-        if self.lights.is_empty() {
+        if self.selectable.is_empty() {
             return None;
         }
-        let (index, probability, _) = self.selection.sample(u);
-        Some((index, probability))
+        let (k, probability, _) = self.selection.sample(u);
+        Some((self.selectable[k] as usize, probability))
     }
 
     pub fn selection_probability(&self, index: usize) -> f32 {
-        self.selection.pdf(index)
+        self.probability.get(index).copied().unwrap_or(0.0)
     }
 
     /// The area light of emissive shape `emitter`, with its index.
@@ -208,10 +253,11 @@ pub fn build_light_table(
             None => emitter_light.push(u32::MAX),
         }
     }
-    commands.insert_resource(LightTable {
-        selection: AliasTable::new(&selection.light_selection.weights(&power)),
+    commands.insert_resource(LightTable::new(
         lights,
+        &power,
+        selection.light_selection,
         emitter_light,
         environment,
-    });
+    ));
 }
