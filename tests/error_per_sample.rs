@@ -102,7 +102,9 @@ fn emitter_mis_weight_uses_the_last_scattering_vertex_after_a_null_surface() {
 }
 
 /// A matte floor under a sky and a small bright lamp: the sky has most of the power (its
-/// flux over the scene's cross-section), the lamp lights the floor under it.
+/// flux over the scene's cross-section), the lamp lights the floor under it. The sky is a map
+/// (0.25 and 0.35 in two halves): next-event estimation leaves a constant sky to BSDF sampling,
+/// so only a varying one competes with the lamp for light samples.
 fn sky_and_lamp() -> SceneDesc {
     let mut scene = empty_scene(looking_down(Vec3::new(0.0, 0.0, 3.0), 40.0), 32, 32);
     let floor = matte(&mut scene, Vec3::splat(0.6));
@@ -127,9 +129,18 @@ fn sky_and_lamp() -> SceneDesc {
         null,
         Some(emitter(Vec3::splat(40.0))),
     );
+    scene.textures.push(foton::scene::desc::ImageTexture {
+        name: "two halves".into(),
+        path: "two-halves.exr".into(),
+        width: 2,
+        height: 1,
+        texels: std::sync::Arc::new(vec![Vec3::splat(0.25), Vec3::splat(0.35)]),
+        scale: glam::Vec2::ONE,
+        delta: glam::Vec2::ZERO,
+    });
     scene.lights.push(LightDesc::Infinite {
-        radiance: Vec3::splat(0.3),
-        map: None,
+        radiance: Vec3::ONE,
+        map: Some(0),
         light_to_world: Mat4::IDENTITY,
     });
     scene
