@@ -139,6 +139,11 @@ def summarise(rows):
     return top, m_seconds, f_seconds_top, equal_spp, equal_time, to_error
 
 
+def ratio(r):
+    """A ratio with two decimals, or two significant digits below 0.1 (0.0031x, not 0.00x)."""
+    return f"{r:.2f}x" if r >= 0.1 else f"{r:.2g}x"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", default=",".join(SCENES))
@@ -180,7 +185,7 @@ def main():
         "|---|---|---|---|---|---|---|",
     ]
     for name, _, (top, m_s, f_s, e_spp, e_time, to_err) in table:
-        lines.append(f"| {name} | {top} | {m_s:.3f} | {f_s:.3f} | {e_spp:.2f}x | {e_time:.2f}x | {to_err:.2f}x |")
+        lines.append(f"| {name} | {top} | {m_s:.3f} | {f_s:.3f} | {ratio(e_spp)} | {ratio(e_time)} | {ratio(to_err)} |")
     lines += ["", "Points (median seconds, mean relMSE over the seeds):", ""]
     lines += ["| scene | renderer | spp | seconds | relMSE |", "|---|---|---|---|---|"]
     for name, rows, _ in table:
