@@ -211,7 +211,7 @@ impl Bsdf {
     /// path vertex normalises its `wo` once for this and [`Bsdf::sample_unit_wo`]). Inlined
     /// into the caller, so that the commonest BSDF costs no call (and no spill of the
     /// caller's vector registers around it).
-    #[inline]
+    #[inline(always)]
     pub fn eval_and_pdf_unit_wo(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         let Some(wi) = unit_direction(wi) else {
             return (Vec3::ZERO, 0.0);
@@ -293,7 +293,7 @@ impl Bsdf {
     /// [`Bsdf::sample`] for a `wo` already made a unit vector by [`unit_direction`]. A
     /// Lambertian BSDF is sampled inline in the caller (no call, no spill of its vector
     /// registers), every other behind one call.
-    #[inline]
+    #[inline(always)]
     pub fn sample_unit_wo(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
         let u = Vec2::new(canonical(u.x), canonical(u.y));
         if let Bsdf::Lambertian { reflectance } = *self {
@@ -415,7 +415,7 @@ impl Bsdf {
 /// A Lambertian BSDF's sample for a canonical `u`. The cosine warp of a canonical `u` gives a
 /// finite direction and a positive finite density: only f (a texture's reflectance) needs the
 /// check that [`Bsdf::sample`] makes of every other sample.
-#[inline]
+#[inline(always)]
 fn sample_lambertian(reflectance: Vec3, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
     Lambertian { reflectance }
         .sample(wo, u)
