@@ -320,6 +320,58 @@ fn sample_matches_eval_and_pdf() {
     }
 }
 
+/// A Lambertian sample is checked for a finite f only (`Bsdf::sample_unit_wo`): the cosine warp
+/// of the clamped sample must then give a finite direction above the surface and a positive
+/// finite density wherever it gives a sample, at the square's corners and edges and for samples
+/// outside it too; a reflectance that is not finite (a texture's value) drops the sample.
+#[test]
+fn lambertian_samples_are_finite_without_their_direction_and_density_checked() {
+    let wo = Vec3::new(0.3, -0.2, 0.9);
+    let bsdf = Bsdf::Lambertian {
+        reflectance: Vec3::splat(0.5),
+    };
+    let below_one = 1.0 - f32::EPSILON / 2.0;
+    let coordinates = [
+        0.0,
+        -0.0,
+        f32::MIN_POSITIVE,
+        0.25,
+        0.5,
+        below_one,
+        1.0,
+        2.0,
+        -1.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    let mut samples = 0;
+    for &x in &coordinates {
+        for &y in &coordinates {
+            let Some(s) = bsdf.sample(wo, Vec2::new(x, y), 0.5) else {
+                continue;
+            };
+            samples += 1;
+            assert!(
+                s.wi.is_finite() && s.wi.z >= 0.0,
+                "u = ({x}, {y}): wi {}",
+                s.wi
+            );
+            assert!(
+                s.pdf.is_finite() && s.pdf > 0.0,
+                "u = ({x}, {y}): pdf {}",
+                s.pdf
+            );
+            assert!(s.f.is_finite() && !s.delta);
+        }
+    }
+    assert!(samples > coordinates.len(), "only {samples} samples");
+    for reflectance in [Vec3::new(f32::INFINITY, 0.5, 0.5), Vec3::splat(f32::NAN)] {
+        let bsdf = Bsdf::Lambertian { reflectance };
+        assert!(bsdf.sample(wo, Vec2::splat(0.3), 0.5).is_none());
+    }
+}
+
 /// Integrates a function of direction over the sphere with the midpoint rule
 /// in (z, phi), for which d(omega) = dz dphi.
 fn integrate_sphere(nz: usize, nphi: usize, f: impl Fn(Vec3) -> f32) -> f64 {

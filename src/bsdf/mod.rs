@@ -159,8 +159,9 @@ fn canonical(x: f32) -> f32 {
     }
 }
 
-/// A unit direction, or None for zero or non-finite input.
-fn direction(w: Vec3) -> Option<Vec3> {
+/// A unit direction, or None for zero or non-finite input: how every entry point here takes
+/// its directions.
+pub fn unit_direction(w: Vec3) -> Option<Vec3> {
     w.try_normalize()
 }
 
@@ -182,7 +183,7 @@ impl Bsdf {
     /// f(wo, wi) for non-delta lobes (0 for delta ones); both in the local
     /// frame, pointing away from the surface.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        match (direction(wo), direction(wi)) {
+        match (unit_direction(wo), unit_direction(wi)) {
             (Some(wo), Some(wi)) => self.eval_unit(wo, wi),
             _ => Vec3::ZERO,
         }
@@ -191,7 +192,7 @@ impl Bsdf {
     /// The density (per solid angle) with which [`Bsdf::sample`] returns
     /// `wi`; 0 for delta lobes.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        match (direction(wo), direction(wi)) {
+        match (unit_direction(wo), unit_direction(wi)) {
             (Some(wo), Some(wi)) => self.pdf_unit(wo, wi),
             _ => 0.0,
         }
@@ -200,7 +201,19 @@ impl Bsdf {
     /// [`Bsdf::eval`] and [`Bsdf::pdf`] together, as next-event estimation needs both: the
     /// directions are checked and normalised once.
     pub fn eval_and_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        let (Some(wo), Some(wi)) = (direction(wo), direction(wi)) else {
+        match unit_direction(wo) {
+            Some(wo) => self.eval_and_pdf_unit_wo(wo, wi),
+            None => (Vec3::ZERO, 0.0),
+        }
+    }
+
+    /// [`Bsdf::eval_and_pdf`] for a `wo` already made a unit vector by [`unit_direction`] (a
+    /// path vertex normalises its `wo` once for this and [`Bsdf::sample_unit_wo`]). Inlined
+    /// into the caller, so that the commonest BSDF costs no call (and no spill of the
+    /// caller's vector registers around it).
+    #[inline(always)]
+    pub fn eval_and_pdf_unit_wo(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        let Some(wi) = unit_direction(wi) else {
             return (Vec3::ZERO, 0.0);
         };
         // The commonest BSDF without the two dispatches (and calls) of `eval_unit` and
@@ -274,10 +287,26 @@ impl Bsdf {
     /// `u`: a 2D sample, `uc`: a 1D sample (to choose reflection or
     /// transmission).
     pub fn sample(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
-        let wo = direction(wo)?;
+        self.sample_unit_wo(unit_direction(wo)?, u, uc)
+    }
+
+    /// [`Bsdf::sample`] for a `wo` already made a unit vector by [`unit_direction`]. A
+    /// Lambertian BSDF is sampled inline in the caller (no call, no spill of its vector
+    /// registers), every other behind one call.
+    #[inline(always)]
+    pub fn sample_unit_wo(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
         let u = Vec2::new(canonical(u.x), canonical(u.y));
+        if let Bsdf::Lambertian { reflectance } = *self {
+            return sample_lambertian(reflectance, wo, u);
+        }
+        self.sample_canonical(wo, u, uc)
+    }
+
+    /// [`Bsdf::sample_unit_wo`] for a canonical `u`, by the BSDF's own sampling routine.
+    #[inline(never)]
+    fn sample_canonical(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
         let s = match *self {
-            Bsdf::Lambertian { reflectance } => Lambertian { reflectance }.sample(wo, u),
+            Bsdf::Lambertian { reflectance } => return sample_lambertian(reflectance, wo, u),
             Bsdf::SpecularReflection { reflectance } => {
                 SpecularReflection { reflectance }.sample(wo)
             }
@@ -381,6 +410,16 @@ impl Bsdf {
             Bsdf::GlossyTranslucent(g) => g.albedo(),
         }
     }
+}
+
+/// A Lambertian BSDF's sample for a canonical `u`. The cosine warp of a canonical `u` gives a
+/// finite direction and a positive finite density: only f (a texture's reflectance) needs the
+/// check that [`Bsdf::sample`] makes of every other sample.
+#[inline(always)]
+fn sample_lambertian(reflectance: Vec3, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+    Lambertian { reflectance }
+        .sample(wo, u)
+        .filter(|s| s.f.is_finite())
 }
 
 /// LuxRender's metals: GGX with height-correlated masking.

@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::batch::{PathBatch, ShadowBatch};
 use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
 use crate::accel::Hit;
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, unit_direction};
 use crate::light::LightTable;
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
@@ -85,6 +85,12 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
     }
     let frame = scene.shading_frame(&surface, bsdf);
     let wo_local = frame.to_local(wo);
+    // Normalised once here for both the light sample's evaluation and the BSDF sample (each
+    // normalised it before, to the same bits); a degenerate one ends the path as they did.
+    let Some(wo_unit) = unit_direction(wo_local) else {
+        *path.alive = false;
+        return None;
+    };
 
     // Next-event estimation: one light, chosen by power.
     let mut shadow = None;
@@ -101,7 +107,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
                     if sample.wi.dot(surface.geometric_normal) * wi_local.z <= 0.0 {
                         return None;
                     }
-                    let (f, bsdf_pdf) = bsdf.eval_and_pdf(wo_local, wi_local);
+                    let (f, bsdf_pdf) = bsdf.eval_and_pdf_unit_wo(wo_unit, wi_local);
                     let f = f * wi_local.z.abs();
                     if f == Vec3::ZERO {
                         return None;
@@ -122,7 +128,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
 
     // The next ray, by BSDF sampling.
     let (u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
-    let delta = match bsdf.sample(wo_local, u_direction, u_lobe) {
+    let delta = match bsdf.sample_unit_wo(wo_unit, u_direction, u_lobe) {
         Some(sample) if sample.pdf > 0.0 => {
             let wi = frame.to_world(sample.wi);
             let reflects = sample.wi.z * wo_local.z > 0.0;

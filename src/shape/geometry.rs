@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use bevy_ecs::prelude::*;
-use glam::{Affine3A, Mat3, Vec2, Vec3};
+use glam::{Affine3A, Mat3, Mat3A, Vec2, Vec3};
 
 use super::{
     AreaEmitter, FLAT_NORMAL_COS, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh,
@@ -74,6 +74,10 @@ pub struct SceneGeometry {
 pub struct SphereShape {
     pub object_to_world: Affine3A,
     pub world_to_object: Affine3A,
+    /// Maps object-space normals to world space: the inverse transpose of the linear part of
+    /// `object_to_world`, i.e. `world_to_object`'s transposed (transposed once here, not at
+    /// every hit).
+    pub normal_to_world: Mat3A,
     pub radius: f32,
 }
 
@@ -147,9 +151,11 @@ pub fn build_scene_geometry(
             light,
         ));
         material.push(surface.0);
+        let world_to_object = sphere.object_to_world.inverse();
         sphere_shapes.push(SphereShape {
             object_to_world: sphere.object_to_world,
-            world_to_object: sphere.object_to_world.inverse(),
+            world_to_object,
+            normal_to_world: world_to_object.matrix3.transpose(),
             radius: sphere.radius,
         });
     }

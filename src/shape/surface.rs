@@ -76,12 +76,7 @@ impl SceneGeometry {
         let sphere = &self.spheres[i];
         let local = sphere.world_to_object.transform_point3(position);
         // Normals transform by the inverse transpose.
-        let n = sphere
-            .world_to_object
-            .matrix3
-            .transpose()
-            .mul_vec3(local)
-            .normalize_or(Vec3::Z);
+        let n = sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z);
         if !self.uvs {
             return (n, n, Vec2::ZERO);
         }
