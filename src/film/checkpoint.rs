@@ -50,7 +50,12 @@ pub fn write_checkpoint(path: &Path, film: &Film, info: CheckpointInfo) -> Resul
     let clamp = film.max_component().map_or(0.0, f64::from);
     bytes.extend_from_slice(&clamp.to_le_bytes());
     for (pixel, count) in film.counts().iter().enumerate() {
-        for v in film.sum(pixel).to_array().into_iter().chain([film.weight(pixel)]) {
+        for v in film
+            .sum(pixel)
+            .to_array()
+            .into_iter()
+            .chain([film.weight(pixel)])
+        {
             bytes.extend_from_slice(&v.to_le_bytes());
         }
         bytes.extend_from_slice(&count.to_le_bytes());
