@@ -41,9 +41,10 @@ use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
 /// batch state per path (twice, with the compaction's spare columns), plus its hit and shadow
-/// ray, a chunk of 16k keeps its batches within a few MB of cache. Not yet tuned: on a shared
-/// machine the timings of 4k, 16k and 64k varied more between runs than between sizes; compare
-/// them with `foton bench --chunk-paths` on a quiet one.
+/// ray, a chunk of 16k keeps its batches within a few MB of cache. Callgrind's cache simulation
+/// (README, Speed) favours 4k or 8k: about a third fewer L2 misses for the same instructions;
+/// not changed until their wall-clock time at 2 threads is measured on a quiet machine
+/// (`foton bench --chunk-paths`).
 pub const DEFAULT_CHUNK_PATHS: usize = 16 * 1024;
 
 /// The world and the schedules that render it.
