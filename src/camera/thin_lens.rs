@@ -75,7 +75,8 @@ fn focus_through_thin_lens(
     mut batch: ResMut<PathBatch>,
 ) {
     let lens = **lens;
-    let sampler = sampling.sampler.pass(pass.0);
+    let pass_sampler = sampling.sampler.pass(pass.0);
+    let sampler = pass_sampler.dimension(LENS_DIMENSION);
     let batch = &mut *batch;
     let n = batch.len;
     (
@@ -87,7 +88,7 @@ fn focus_through_thin_lens(
         .with_min_len(1024)
         .for_each(|(pixel, origin, direction)| {
             let focus = *origin + *direction * lens.focal_distance;
-            let sample = sampler.sample_2d(*pixel, LENS_DIMENSION);
+            let sample = sampler.sample(*pixel);
             // Shirley-Chiu's concentric map keeps the sampler's stratification on the disk.
             let on_lens = concentric_disk(sample) * lens.lens_radius;
             *origin += on_lens.extend(0.0);

@@ -161,8 +161,8 @@ impl PartTemplate {
                 rejected: film.rejected_samples(),
                 ..self.info.clone()
             },
-            sums: pixels.iter().map(|i| film.sums()[pick(i)]).collect(),
-            weights: pixels.iter().map(|i| film.weights()[pick(i)]).collect(),
+            sums: pixels.iter().map(|i| film.sum(pick(i))).collect(),
+            weights: pixels.iter().map(|i| film.weight(pick(i))).collect(),
             counts: pixels.iter().map(|i| film.counts()[pick(i)]).collect(),
         };
         if passes_done <= self.info.first_pass {

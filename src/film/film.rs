@@ -34,19 +34,22 @@ const SPLAT_TABLE: usize = u8::MAX as usize + 1;
 #[derive(Clone, Debug)]
 struct SplatFilter {
     radius: Vec2,
-    /// Fixed-size, so that an index clamped below `SPLAT_TABLE` needs no bounds check.
-    tables: [[f32; SPLAT_TABLE + 1]; 2],
+    /// Per axis and entry i: the value at i / SPLAT_TABLE of the radius and the step to the
+    /// next entry's, (f_i, f_(i+1) - f_i), side by side so that one 8-byte load reads both.
+    /// Fixed-size, so that a `u8` index needs no bounds check.
+    tables: [[[f32; 2]; SPLAT_TABLE]; 2],
 }
 
 impl SplatFilter {
     fn new(filter: &PixelFilter) -> Self {
         let radius = filter.radius();
         let table = |axis: usize| {
-            std::array::from_fn(|i| {
+            let value = |i: usize| {
                 let mut offset = Vec2::ZERO;
                 offset[axis] = radius[axis] * i as f32 / SPLAT_TABLE as f32;
                 filter.evaluate(offset)
-            })
+            };
+            std::array::from_fn(|i| [value(i), value(i + 1) - value(i)])
         };
         Self {
             radius,
@@ -56,6 +59,7 @@ impl SplatFilter {
 
     /// The pixels along `axis` whose centres lie within the radius of `position` (on a film
     /// `size` pixels long), and the filter's value at each.
+    #[inline(always)]
     fn footprint(&self, axis: usize, position: f32, size: u32) -> AxisFootprint {
         let (first, count) = footprint_span(position, self.radius[axis], size);
         let mut weights = [0.0; MAX_FOOTPRINT];
@@ -64,10 +68,10 @@ impl SplatFilter {
             .enumerate()
             .take(count.div_ceil(4))
         {
-            // Pixel indices fit in u32, whose conversion to f32 is one instruction.
-            let centres = Vec4::from_array(std::array::from_fn(|lane| {
-                (first + 4 * group + lane) as u32 as f32 + 0.5
-            }));
+            // The centres j + 0.5 of pixels j = first + 4 group + lane, as the group's first
+            // index plus (lane + 0.5): exact, and so the same bits, below 2^22 pixels.
+            let group_first = (first + 4 * group) as i32 as f32;
+            let centres = Vec4::splat(group_first) + Vec4::new(0.5, 1.5, 2.5, 3.5);
             values.copy_from_slice(
                 &self
                     .values(axis, Vec4::splat(position) - centres)
@@ -83,8 +87,9 @@ impl SplatFilter {
 
     /// The filter along `axis` at four `offsets` in pixels (symmetric; 0 beyond the radius),
     /// interpolated in the table: with x = |offset| / r * SPLAT_TABLE and i = floor(x),
-    /// f = table[i] + (table[i + 1] - table[i]) (x - i). Four lanes at once, each lane's
-    /// arithmetic that of one value alone (SSE2 has no fused multiply-add: the same roundings).
+    /// f = f_i + (f_(i+1) - f_i) (x - i). Four lanes at once, each lane's arithmetic that of
+    /// one value alone (SSE2 has no fused multiply-add: the same roundings).
+    #[inline(always)]
     fn values(&self, axis: usize, offsets: Vec4) -> Vec4 {
         let x = offsets.abs() / self.radius[axis] * SPLAT_TABLE as f32;
         // False for NaN as well.
@@ -96,13 +101,14 @@ impl SplatFilter {
         // The index from the float's bits: inside, whole is an integer in [0, 256), and
         // adding 2^23 puts it, exactly, in the mantissa's low bits (cheaper than a cast per
         // lane); outside, the low byte is still a valid index (its lane is replaced by 0).
-        let index = (whole + Vec4::splat(8_388_608.0))
-            .to_array()
-            .map(|i| usize::from(i.to_bits() as u8));
+        let index = (whole + Vec4::splat(8_388_608.0)).to_array();
         let table = &self.tables[axis];
-        let low = Vec4::from_array(index.map(|i| table[i]));
-        let high = Vec4::from_array(index.map(|i| table[i + 1]));
-        Vec4::select(inside, low + (high - low) * t, Vec4::ZERO)
+        let entry = |lane: usize| table[usize::from(index[lane].to_bits() as u8)];
+        // Lane by lane, not `array::map`, which is not always inlined.
+        let [e0, e1, e2, e3] = [entry(0), entry(1), entry(2), entry(3)];
+        let low = Vec4::new(e0[0], e1[0], e2[0], e3[0]);
+        let step = Vec4::new(e0[1], e1[1], e2[1], e3[1]);
+        Vec4::select(inside, low + step * t, Vec4::ZERO)
     }
 }
 
@@ -114,6 +120,10 @@ struct AxisFootprint {
     weights: [f32; MAX_FOOTPRINT],
 }
 
+/// A pixel's weighted radiance sums and weight sum, (sum w r, sum w g, sum w b, sum w): side by
+/// side, so that a sample adds (r, g, b, 1) w to it in one 4-lane step.
+type WeightedSum = [f64; 4];
+
 /// Weighted radiance sums and weight sums per pixel, rows from the top.
 ///
 /// Sums are f64: after 1e5 samples of similar magnitude an f32 sum would keep only ~7 of its
@@ -122,8 +132,7 @@ struct AxisFootprint {
 pub struct Film {
     width: u32,
     height: u32,
-    sums: Vec<DVec3>,
-    weights: Vec<f64>,
+    sums: Vec<WeightedSum>,
     /// Samples whose film position lies in the pixel.
     counts: Vec<u64>,
     rejected: u64,
@@ -139,8 +148,7 @@ impl Film {
         Self {
             width,
             height,
-            sums: vec![DVec3::ZERO; n],
-            weights: vec![0.0; n],
+            sums: vec![[0.0; 4]; n],
             counts: vec![0; n],
             rejected: 0,
             splat: None,
@@ -192,8 +200,9 @@ impl Film {
         (sums.len() == n && weights.len() == n && counts.len() == n).then_some(Self {
             width,
             height,
-            sums,
-            weights,
+            sums: (sums.iter().zip(weights))
+                .map(|(sum, weight)| sum.extend(weight).to_array())
+                .collect(),
             counts,
             rejected,
             splat: None,
@@ -208,20 +217,20 @@ impl Film {
             return false;
         }
         self.sums = saved.sums;
-        self.weights = saved.weights;
         self.counts = saved.counts;
         self.rejected = saved.rejected;
         true
     }
 
-    /// Weighted radiance sums per pixel (for checkpoints).
-    pub fn sums(&self) -> &[DVec3] {
-        &self.sums
+    /// The weighted radiance sum of `pixel` (y * width + x; for checkpoints and parts).
+    pub fn sum(&self, pixel: usize) -> DVec3 {
+        let [r, g, b, _] = self.sums[pixel];
+        DVec3::new(r, g, b)
     }
 
-    /// Weight sums per pixel (for checkpoints).
-    pub fn weights(&self) -> &[f64] {
-        &self.weights
+    /// The weight sum of `pixel` (for checkpoints and parts).
+    pub fn weight(&self, pixel: usize) -> f64 {
+        self.sums[pixel][3]
     }
 
     /// Samples per pixel received (for checkpoints).
@@ -269,15 +278,21 @@ impl Film {
             let mut rows = FilmRows {
                 first_row: 0,
                 sums: &mut self.sums,
-                weights: &mut self.weights,
                 counts: &mut self.counts,
                 max_component,
             };
-            let rejected = (samples.iter())
-                .filter(|sample| {
-                    (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample)
-                })
-                .count();
+            let rejected = with_avx2_if_present(
+                #[inline(always)]
+                || {
+                    let mut rejected = 0;
+                    for sample in samples {
+                        if (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample) {
+                            rejected += 1;
+                        }
+                    }
+                    rejected
+                },
+            );
             self.rejected += rejected as u64;
             return;
         }
@@ -313,22 +328,27 @@ impl Film {
         let range = first_row * width..end_row * width;
         let rejected: u64 = (
             self.sums[range.clone()].par_chunks_mut(band_rows * width),
-            self.weights[range.clone()].par_chunks_mut(band_rows * width),
             self.counts[range].par_chunks_mut(band_rows * width),
         )
             .into_par_iter()
             .enumerate()
-            .map(|(band, (sums, weights, counts))| {
+            .map(|(band, (sums, counts))| {
                 let mut rows = FilmRows {
                     first_row: first_row + band * band_rows,
                     sums,
-                    weights,
                     counts,
                     max_component,
                 };
-                (band_samples(band).iter())
-                    .filter(|sample| !rows.add(film_size, splat, sample))
-                    .count() as u64
+                with_avx2_if_present(
+                    #[inline(always)]
+                    || {
+                        let mut rejected = 0;
+                        for sample in band_samples(band) {
+                            rejected += u64::from(!rows.add(film_size, splat, sample));
+                        }
+                        rejected
+                    },
+                )
             })
             .sum();
         self.rejected += rejected;
@@ -338,10 +358,9 @@ impl Film {
     pub fn mean(&self) -> Vec<Vec3> {
         self.sums
             .par_iter()
-            .zip(self.weights.par_iter())
-            .map(|(&sum, &weight)| {
+            .map(|&[r, g, b, weight]| {
                 if weight > 0.0 {
-                    (sum / weight).as_vec3()
+                    (DVec3::new(r, g, b) / weight).as_vec3()
                 } else {
                     Vec3::ZERO
                 }
@@ -374,11 +393,10 @@ pub struct FilmSample {
     pub radiance: Vec3,
 }
 
-/// Consecutive whole rows of the film's sums, weights and counts, from `first_row`.
+/// Consecutive whole rows of the film's sums and counts, from `first_row`.
 struct FilmRows<'a> {
     first_row: usize,
-    sums: &'a mut [DVec3],
-    weights: &'a mut [f64],
+    sums: &'a mut [WeightedSum],
     counts: &'a mut [u64],
     /// The film's `--clamp` limit on a sample's largest component.
     max_component: Option<f32>,
@@ -388,7 +406,8 @@ impl FilmRows<'_> {
     /// Adds `sample`'s share of these rows: its weighted radiance in the pixels of these rows
     /// under its footprint, and its count if its own pixel is here. Returns false if the sample
     /// is invalid (NaN, infinite or negative) and its own pixel is here: the one band that
-    /// counts it as rejected.
+    /// counts it as rejected. Inlined into both versions of [`with_avx2_if_present`].
+    #[inline(always)]
     fn add(
         &mut self,
         (width, height): (u32, u32),
@@ -411,13 +430,13 @@ impl FilmRows<'_> {
         let radiance = match self.max_component {
             Some(max) if largest > max => sample.radiance * (max / largest),
             _ => sample.radiance,
-        }
-        .as_dvec3();
+        };
+        // (r, g, b, 1): times a weight w, the radiance and the weight a pixel adds.
+        let radiance = radiance.as_dvec3().extend(1.0).to_array();
         match splat {
             None => {
                 if home {
-                    self.sums[pixel - offset] += radiance;
-                    self.weights[pixel - offset] += 1.0;
+                    add_weighted(&mut self.sums[pixel - offset], radiance, 1.0);
                 }
             }
             Some(filter) => {
@@ -439,14 +458,8 @@ impl FilmRows<'_> {
                 // constant f(0, 0) cancels in sum / weight.
                 let start = (first - self.first_row) * w + xs.first;
                 for (row, &fy) in wy.iter().enumerate() {
-                    let pixels = start + row * w..start + row * w + wx.len();
-                    let sums = &mut self.sums[pixels.clone()];
-                    let weights = &mut self.weights[pixels];
-                    for ((sum, weight), &fx) in sums.iter_mut().zip(weights).zip(wx) {
-                        let w = f64::from(fx * fy);
-                        *sum += radiance * w;
-                        *weight += w;
-                    }
+                    let sums = &mut self.sums[start + row * w..start + row * w + wx.len()];
+                    add_to_row(sums, wx, fy, radiance);
                 }
             }
         }
@@ -454,14 +467,67 @@ impl FilmRows<'_> {
     }
 }
 
+/// Runs `body` compiled for AVX2 if the CPU has it, else as compiled for the baseline (SSE2);
+/// `body` must be `#[inline(always)]` to be compiled into each version. The same operations on
+/// the same values either way (no FMA: Rust never fuses a product and a sum on its own), so the
+/// same bits; with AVX, a pixel's four f64 sums are one 256-bit add and VEX's three-operand
+/// forms save the copies. The film's own copy of `accel`'s dispatch, so that the two modules
+/// stay independent.
+#[inline(always)]
+fn with_avx2_if_present<R>(body: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has the feature `with_avx2` is compiled for.
+        return unsafe { with_avx2(body) };
+    }
+    body()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn with_avx2<R>(body: impl FnOnce() -> R) -> R {
+    body()
+}
+
+/// Adds a sample's share to the pixels of one row of its footprint: to pixel i, (r, g, b, 1) w_i
+/// with w_i = f(dx_i, 0) f(0, dy) = `wx[i] * fy` (the product in f32, as one value alone).
+/// Four pixels at a time: their four weights in one f32 product, then 16 lanes of f64.
+#[inline(always)]
+fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedSum) {
+    let mut pixels = sums.chunks_exact_mut(4);
+    let mut weights = wx.chunks_exact(4);
+    for (pixels, weights) in (&mut pixels).zip(&mut weights) {
+        // f32 to f64 is exact: four conversions in one instruction.
+        let weights = (Vec4::from_slice(weights) * fy).as_dvec4().to_array();
+        for (sum, w) in pixels.iter_mut().zip(weights) {
+            add_weighted(sum, radiance, w);
+        }
+    }
+    for (sum, &fx) in pixels.into_remainder().iter_mut().zip(weights.remainder()) {
+        add_weighted(sum, radiance, f64::from(fx * fy));
+    }
+}
+
+/// sum += radiance w, lane by lane (each lane one product and one sum: the same roundings as
+/// three colour sums and a weight sum kept apart).
+#[inline(always)]
+fn add_weighted(sum: &mut WeightedSum, radiance: WeightedSum, w: f64) {
+    for (sum, value) in sum.iter_mut().zip(radiance) {
+        *sum += value * w;
+    }
+}
+
 /// The pixels along one axis whose centres lie within `radius` of `position`, as (first, count).
+#[inline(always)]
 fn footprint_span(position: f32, radius: f32, size: u32) -> (usize, usize) {
-    // ceil and floor by casts (which truncate towards zero), as in `SplatFilter::value`.
     let (low, high) = (position - 0.5 - radius, position - 0.5 + radius);
-    let first = (low as i64 + i64::from((low as i64 as f32) < low)).max(0) as usize;
-    let last = (high as i64 - i64::from((high as i64 as f32) > high)).min(i64::from(size) - 1);
-    let count = (last + 1 - first as i64).clamp(0, MAX_FOOTPRINT as i64) as usize;
-    (first, count)
+    // In f32, exact below 2^24 pixels; one instruction each for ceil and floor with SSE4.1
+    // (`with_avx2_if_present`). `max` and `min` also turn a NaN bound into the film's edge.
+    let first = low.ceil().max(0.0);
+    let last = high.floor().min(size as f32 - 1.0);
+    let count = (last + 1.0 - first).clamp(0.0, MAX_FOOTPRINT as f32);
+    // Through i32, whose conversion is cheaper than usize's (both are in [0, 2^24]).
+    (first as i32 as usize, count as i32 as usize)
 }
 
 #[cfg(test)]
@@ -545,7 +611,6 @@ mod tests {
                     pool.install(|| batches.iter().for_each(|b| film.add_samples(b)));
                     let case = format!("{filter:?}, {threads} threads");
                     assert_eq!(film.sums, serial.sums, "{case}");
-                    assert_eq!(film.weights, serial.weights, "{case}");
                     assert_eq!(film.counts, serial.counts, "{case}");
                     assert_eq!(film.rejected, serial.rejected, "{case}");
                 }
@@ -581,25 +646,29 @@ mod tests {
         fast.add_samples(&samples);
         splatted.add_samples(&samples);
         assert_eq!(fast.sums, splatted.sums);
-        assert_eq!(fast.weights, splatted.weights);
         assert_eq!(fast.counts, splatted.counts);
     }
 
-    /// The four-lane table reads against the interpolation done one value at a time (the
-    /// splat's arithmetic before it took four lanes): the same bits for offsets inside, on and
-    /// beyond the radius, negative, NaN, and for filters with negative lobes and radii that are
-    /// not powers of two.
+    /// The four-lane table reads against the interpolation done one value at a time from the
+    /// filter itself (the splat's arithmetic before it took four lanes and paired each entry
+    /// with its step): the same bits for offsets inside, on and beyond the radius, negative,
+    /// NaN, and for filters with negative lobes and radii that are not powers of two.
     #[test]
     fn four_lane_filter_values_match_one_at_a_time() {
         use crate::film::FilterKind;
-        let scalar = |filter: &SplatFilter, axis: usize, offset: f32| {
-            let x = offset.abs() / filter.radius[axis] * SPLAT_TABLE as f32;
+        let scalar = |filter: &PixelFilter, axis: usize, offset: f32| {
+            let r = filter.radius()[axis];
+            let x = offset.abs() / r * SPLAT_TABLE as f32;
             if x.is_nan() || x >= SPLAT_TABLE as f32 {
                 return 0.0;
             }
             let i = x as usize;
-            let table = &filter.tables[axis];
-            table[i] + (table[i + 1] - table[i]) * (x - i as f32)
+            let entry = |i: usize| {
+                let mut offset = Vec2::ZERO;
+                offset[axis] = r * i as f32 / SPLAT_TABLE as f32;
+                filter.evaluate(offset)
+            };
+            entry(i) + (entry(i + 1) - entry(i)) * (x - i as f32)
         };
         let mut rng = crate::sampling::PathRng::new(7, 8, 9);
         let filters = [
@@ -612,7 +681,8 @@ mod tests {
             (FilterKind::Sinc { tau: 3.0 }, Vec2::new(4.0, 4.0)),
         ];
         for (kind, radius) in filters {
-            let filter = SplatFilter::new(&PixelFilter::new(kind, radius));
+            let pixel_filter = PixelFilter::new(kind, radius);
+            let filter = SplatFilter::new(&pixel_filter);
             for axis in 0..2 {
                 let r = radius[axis];
                 let mut offsets = vec![0.0, -0.0, r, -r, r.next_up(), f32::NAN, f32::INFINITY];
@@ -622,7 +692,7 @@ mod tests {
                     group[..lanes.len()].copy_from_slice(lanes);
                     let values = filter.values(axis, Vec4::from_array(group)).to_array();
                     for (&offset, value) in group.iter().zip(values) {
-                        let expected = scalar(&filter, axis, offset);
+                        let expected = scalar(&pixel_filter, axis, offset);
                         assert_eq!(value.to_bits(), expected.to_bits(), "{kind:?} {offset}");
                     }
                 }

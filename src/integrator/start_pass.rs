@@ -42,7 +42,8 @@ pub fn start_pass(
     let pass = pass.0;
     let streams = PassStreams::new(settings.seed, pass);
     let first = chunk.first;
-    let sampler = sampling.sampler.pass(pass);
+    let pass_sampler = sampling.sampler.pass(pass);
+    let sampler = pass_sampler.dimension(FILM_DIMENSION);
     let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
@@ -74,7 +75,7 @@ pub fn start_pass(
                         width.quotient(i) as f32 + 0.5,
                     );
                     *pixel = i;
-                    *film = centre + sampling.filter.sample(sampler.sample_2d(i, FILM_DIMENSION));
+                    *film = centre + sampling.filter.sample(sampler.sample(i));
                     *rng = streams.path(i);
                 }
                 throughput.fill(Vec3::ONE);

@@ -15,7 +15,7 @@ pub use alias::AliasTable;
 pub use bilinear::Bilinear2D;
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
-pub use pixel_sampler::{PassSampler, PixelSampler, SamplerKind};
+pub use pixel_sampler::{DimensionSampler, PassSampler, PixelSampler, SamplerKind};
 pub use rng::{PassStreams, PathRng};
 
 /// The largest f32 below 1 (1 - 2^-24): samples are clamped to it so that they stay in [0, 1).

@@ -109,7 +109,64 @@ impl PixelSampler {
     }
 }
 
-impl PassSampler<'_> {
+/// One dimension of one pass, for every pixel: for Owen-scrambled Sobol', what depends only on
+/// the pass and the dimension (the scramble seeds' prefix and the pass's point) looked up once,
+/// so that a pixel's sample is its hash, two scrambles and a bit reversal.
+pub struct DimensionSampler<'a> {
+    pass: &'a PassSampler<'a>,
+    dimension: u32,
+    sobol: Option<SobolDimension>,
+}
+
+/// The Sobol' part of a [`DimensionSampler`].
+#[derive(Clone, Copy)]
+struct SobolDimension {
+    /// `hash_words(&[seed, dimension])`: the prefix of each pixel's scramble seeds.
+    prefix: u64,
+    /// The pass's point in the dimension's pair, bit-reversed.
+    reversed: [u32; 2],
+}
+
+impl DimensionSampler<'_> {
+    /// The same as `PassSampler::sample_2d(pixel, dimension)`, to the bit.
+    #[inline]
+    pub fn sample(&self, pixel: u32) -> Vec2 {
+        match self.sobol {
+            Some(sobol) => sobol.sample(pixel),
+            None => self.pass.sample_2d(pixel, self.dimension),
+        }
+    }
+}
+
+impl SobolDimension {
+    /// Owen-scrambled Sobol': the pass's point in the dimension's pair, scrambled with seeds
+    /// hashed from (seed, dimension, pixel) that every pass of the pixel shares, so that the
+    /// pixel's first 2^k samples of the film position are a scrambled (0, k, 2)-net.
+    #[inline(always)]
+    fn sample(self, pixel: u32) -> Vec2 {
+        let seeds = hash_extend(self.prefix, u64::from(pixel));
+        let [x, y] = self.reversed;
+        let (x, y) = (
+            owen_scramble_reversed(x, seeds as u32),
+            owen_scramble_reversed(y, (seeds >> 32) as u32),
+        );
+        // Both words reversed at once: reversing the 64 bits of (x, y) gives (rev y, rev x).
+        let both = (u64::from(x) << 32 | u64::from(y)).reverse_bits();
+        Vec2::new(unit_f32(both as u32), unit_f32((both >> 32) as u32))
+    }
+}
+
+impl<'a> PassSampler<'a> {
+    /// The sampler of `dimension` for this pass's sample of every pixel.
+    pub fn dimension(&'a self, dimension: u32) -> DimensionSampler<'a> {
+        DimensionSampler {
+            pass: self,
+            dimension,
+            sobol: (self.sampler.kind == SamplerKind::Sobol)
+                .then(|| self.sobol_dimension(dimension)),
+        }
+    }
+
     /// A 2D sample in [0,1)^2 for this pass's sample of `pixel` in `dimension`.
     pub fn sample_2d(&self, pixel: u32, dimension: u32) -> Vec2 {
         let sampler = self.sampler;
@@ -135,27 +192,25 @@ impl PassSampler<'_> {
         p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
     }
 
-    /// Owen-scrambled Sobol': the pass's point in the dimension's pair, scrambled with seeds
-    /// hashed from (seed, dimension, pixel) that every pass of the pixel shares, so that the
-    /// pixel's first 2^k samples of the film position are a scrambled (0, k, 2)-net. Dimensions
-    /// past the tabulated pairs reuse them with their own scrambles (independent of the earlier
-    /// dimensions' scrambles, but their samples follow the same index order).
+    /// Owen-scrambled Sobol' (see [`SobolDimension::sample`]).
     fn owen_sobol(&self, pixel: u32, dimension: u32) -> Vec2 {
+        self.sobol_dimension(dimension).sample(pixel)
+    }
+
+    /// What a Sobol' sample of `dimension` in this pass takes besides the pixel. Dimensions past
+    /// the tabulated pairs reuse them with their own scrambles (independent of the earlier
+    /// dimensions' scrambles, but their samples follow the same index order).
+    fn sobol_dimension(&self, dimension: u32) -> SobolDimension {
         let pairs = self.sampler.dimension_keys.len();
         let prefix = match self.sampler.dimension_keys.get(dimension as usize) {
             Some(&key) => key,
             None => hash_words(&[self.sampler.seed, u64::from(dimension)]),
         };
-        let seeds = hash_extend(prefix, u64::from(pixel));
         let pair = 2 * (dimension as usize % pairs);
-        let (x, y) = (self.sobol_reversed[pair], self.sobol_reversed[pair + 1]);
-        let (x, y) = (
-            owen_scramble_reversed(x, seeds as u32),
-            owen_scramble_reversed(y, (seeds >> 32) as u32),
-        );
-        // Both words reversed at once: reversing the 64 bits of (x, y) gives (rev y, rev x).
-        let both = (u64::from(x) << 32 | u64::from(y)).reverse_bits();
-        Vec2::new(unit_f32(both as u32), unit_f32((both >> 32) as u32))
+        SobolDimension {
+            prefix,
+            reversed: [self.sobol_reversed[pair], self.sobol_reversed[pair + 1]],
+        }
     }
 
     /// Jittered sampling: sample `s` goes to stratum permute(s) of the m x n grid, the

@@ -28,6 +28,7 @@ impl PassStreams {
     }
 
     /// The stream of `pixel`'s path in this pass.
+    #[inline]
     pub fn path(self, pixel: u32) -> PathRng {
         let h = hash_extend(self.prefix, u64::from(pixel));
         let mut state = [0u8; 16];
