@@ -480,6 +480,7 @@ fn magic(p: Vec3, depth: u32, turbulence: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::texture::blender_noise::{BlenderNoise, DistanceMetric, NoiseBasis};
 
     fn plain(pattern: BlenderPattern) -> BlenderTexture {
         BlenderTexture {
@@ -582,5 +583,183 @@ mod tests {
             .collect();
         assert!(values.iter().all(|v| (0.0..=1.0).contains(v)));
         assert!(values.windows(2).all(|w| w[0] != w[1]), "{values:?}");
+    }
+
+    fn noise(basis: NoiseBasis, size: f32, hard: bool) -> BlenderNoise {
+        BlenderNoise { basis, size, hard }
+    }
+
+    /// The noisy patterns' intensities at p = (0.31, -0.17, 0.44), from an independent float64
+    /// transcription (Python, not foton's code) of `blender_texlib.cpp`'s `clouds`, `marble`,
+    /// `wood`, `stucci`, `voronoiTex` and `BlenderTexture3D::GetF`, with LuxRender's defaults
+    /// (noise size 0.25, depth 2, turbulence 5) unless named.
+    #[test]
+    fn noisy_patterns_match_the_c_source() {
+        let p = Vec3::new(0.31, -0.17, 0.44);
+        let original = noise(NoiseBasis::BlenderOriginal, 0.25, false);
+        let wood = |rings, noise| BlenderPattern::Wood {
+            rings,
+            wave: Waveform::Sine,
+            noise: Some(noise),
+            turbulence: 5.0,
+        };
+        let voronoi = |weights, outscale, metric, color| BlenderPattern::Voronoi {
+            metric,
+            weights,
+            size: 0.25,
+            outscale,
+            color,
+        };
+        let cases = [
+            (
+                "clouds",
+                BlenderPattern::Clouds {
+                    noise: original,
+                    depth: 2,
+                    color: false,
+                },
+                0.240_812_221_09,
+            ),
+            (
+                "clouds color, improved Perlin, hard, depth 3",
+                BlenderPattern::Clouds {
+                    noise: noise(NoiseBasis::ImprovedPerlin, 0.25, true),
+                    depth: 3,
+                    color: true,
+                },
+                0.232_236_937_81,
+            ),
+            (
+                "marble",
+                BlenderPattern::Marble {
+                    noise: original,
+                    depth: 2,
+                    turbulence: 5.0,
+                    wave: Waveform::Sine,
+                    sharpness: MarbleSharpness::Soft,
+                },
+                0.089_697_611_21,
+            ),
+            (
+                "marble sharper, original Perlin, hard, size 0.5, turbulence 3",
+                BlenderPattern::Marble {
+                    noise: noise(NoiseBasis::OriginalPerlin, 0.5, true),
+                    depth: 2,
+                    turbulence: 3.0,
+                    wave: Waveform::Sine,
+                    sharpness: MarbleSharpness::Sharper,
+                },
+                0.743_447_624_18,
+            ),
+            ("wood bandnoise", wood(false, original), 0.817_093_681_69),
+            (
+                "wood ringnoise, improved Perlin",
+                wood(true, noise(NoiseBasis::ImprovedPerlin, 0.25, false)),
+                0.453_414_062_27,
+            ),
+            (
+                "stucci plastic",
+                BlenderPattern::Stucci {
+                    noise: original,
+                    turbulence: 5.0,
+                    kind: StucciKind::Plastic,
+                },
+                0.233_832_180_55,
+            ),
+            (
+                "stucci wall in, hard",
+                BlenderPattern::Stucci {
+                    noise: noise(NoiseBasis::BlenderOriginal, 0.25, true),
+                    turbulence: 5.0,
+                    kind: StucciKind::WallIn,
+                },
+                0.537_103_611_93,
+            ),
+            (
+                "stucci wall out, improved Perlin, turbulence 20",
+                BlenderPattern::Stucci {
+                    noise: noise(NoiseBasis::ImprovedPerlin, 0.25, false),
+                    turbulence: 20.0,
+                    kind: StucciKind::WallOut,
+                },
+                0.759_445_367_76,
+            ),
+            (
+                "voronoi F1",
+                voronoi(
+                    [1.0, 0.0, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::Intensity,
+                ),
+                0.490_543_159_15,
+            ),
+            (
+                "voronoi weighted, Minkowski 2.5, outscale 1.5",
+                voronoi(
+                    [1.0, -0.5, 0.3, 0.0],
+                    1.5,
+                    DistanceMetric::Minkowski(2.5),
+                    VoronoiColor::Intensity,
+                ),
+                0.266_296_569_17,
+            ),
+            (
+                "voronoi cell colours",
+                voronoi(
+                    [1.0, 0.0, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::Cells,
+                ),
+                0.729_323_25,
+            ),
+            (
+                "voronoi edged colours",
+                voronoi(
+                    [0.8, 0.4, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::CellsEdged,
+                ),
+                0.648_529_933_33,
+            ),
+            (
+                "voronoi edged shaded colours",
+                voronoi(
+                    [0.8, 0.4, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::CellsEdgedShaded,
+                ),
+                0.452_150_127_71,
+            ),
+        ];
+        for (name, pattern, expected) in cases {
+            let v = plain(pattern).intensity(p);
+            assert!((f64::from(v) - expected).abs() < 2e-5, "{name}: {v}");
+        }
+    }
+
+    /// `blender_noise` is white: every depth gives values k / 3^(depth + 1) for k a product of
+    /// depth + 1 factors in {0, 1, 2, 3}, with mean (3/2)^(depth + 1) / 3^(depth + 1) =
+    /// 2^-(depth + 1); over 20000 points the mean of depth 2 (1/8, standard deviation of one
+    /// value sqrt(E[v^2] - 1/64) with E[v^2] = (14/4)^3 / 3^6 = 0.0588, so 0.21) is within
+    /// 4 sigma / sqrt(20000) = 0.006 of 1/8.
+    #[test]
+    fn noise_is_white_with_blenders_distribution() {
+        let pattern = plain(BlenderPattern::Noise { depth: 2 });
+        let n = 20_000;
+        let mut sum = 0.0f64;
+        for i in 0..n {
+            let t = i as f32;
+            let p = Vec3::new(t * 0.013, (t * 0.618_034).fract(), -t * 0.007);
+            let v = pattern.intensity(p);
+            let k = v * 27.0;
+            assert!((k - k.round()).abs() < 1e-4 && k.round() <= 27.0, "{v}");
+            sum += f64::from(v);
+        }
+        let mean = sum / f64::from(n);
+        assert!((mean - 0.125).abs() < 0.006, "{mean}");
     }
 }

@@ -473,4 +473,148 @@ mod tests {
         assert!((f64::from(n) - expected).abs() < 1e-6, "{n} {expected}");
         assert!((f64::from(n) - 0.314_285_25).abs() < 1e-6, "{n}");
     }
+
+    fn close(a: f32, b: f64, tolerance: f64) -> bool {
+        (f64::from(a) - b).abs() < tolerance
+    }
+
+    /// Values of the bases off the lattice from an independent float64 transcription (Python,
+    /// not foton's code) of LuxRender 1.x's `blender_noiselib.cpp` (`orgBlenderNoise`,
+    /// `noise3_perlin` with its single-precision `setup`, `newPerlin`, `voronoi` under each
+    /// metric with exponent 2.5, `cellNoiseU`, `cellNoiseV`).
+    #[test]
+    fn bases_match_the_c_source() {
+        let p = Vec3::new(0.3, 1.7, -2.2);
+        let q = Vec3::new(10.25, -3.75, 0.5);
+        let r = Vec3::new(-4.6, 2.35, 7.9);
+        let cases = [
+            (original_perlin(p), 0.318_223_630_73),
+            (original_perlin(q), 0.098_835_476_81),
+            (improved_perlin(p), -0.504_358_264_18),
+            (improved_perlin(q), 0.158_460_617_07),
+            (blender_original(p), 0.459_983_332_27),
+            (blender_original(r), 0.717_790_740_99),
+            (cell_noise(p), 0.266_620_367_77),
+            (cell_noise(r), 0.562_630_772_59),
+            (cell_noise(Vec3::new(-3.2, -0.5, 100.1)), 0.265_495_330_10),
+        ];
+        for (i, (value, expected)) in cases.into_iter().enumerate() {
+            assert!(close(value, expected, 1e-5), "case {i}: {value} {expected}");
+        }
+        assert_eq!(
+            cell_color(Vec3::new(-4.5, 2.1, 7.9)),
+            Vec3::new(0.085_726, 0.796_024, 0.665_075)
+        );
+        let metrics: [(DistanceMetric, [f64; 4]); 7] = [
+            (
+                DistanceMetric::Actual,
+                [0.564_556_85, 0.594_049_92, 0.621_326_32, 0.723_997_20],
+            ),
+            (
+                DistanceMetric::Squared,
+                [0.318_724_44, 0.352_895_31, 0.386_046_39, 0.524_171_95],
+            ),
+            (
+                DistanceMetric::Manhattan,
+                [0.823_927, 0.897_808, 0.995_223, 1.004_623],
+            ),
+            (
+                DistanceMetric::Chebychev,
+                [0.443_439, 0.446_024, 0.509_084, 0.543_284],
+            ),
+            (
+                DistanceMetric::MinkowskiHalf,
+                [2.118_915_50, 2.147_052_25, 2.207_042_77, 2.377_654_26],
+            ),
+            (
+                DistanceMetric::MinkowskiFour,
+                [0.478_393_71, 0.514_242_99, 0.522_262_19, 0.611_215_54],
+            ),
+            (
+                DistanceMetric::Minkowski(2.5),
+                [0.537_676_60, 0.540_703_48, 0.579_492_32, 0.676_185_90],
+            ),
+        ];
+        for (metric, expected) in metrics {
+            let (d, points) = voronoi(r, metric);
+            for k in 0..4 {
+                assert!(
+                    close(d[k], expected[k], 2e-5),
+                    "{metric:?} F{}: {}",
+                    k + 1,
+                    d[k]
+                );
+                // Each feature point is at its distance.
+                assert!((metric.distance(r - points[k]) - d[k]).abs() < 1e-6);
+            }
+        }
+    }
+
+    /// `BLI_gTurbulence` (noise size 0.25, depth 2) over each basis, soft and hard, and
+    /// `BLI_gNoise`, from the same transcription.
+    #[test]
+    fn turbulence_and_noise_match_the_c_source() {
+        let p = Vec3::new(0.3, 1.7, -2.2);
+        let cases = [
+            (
+                NoiseBasis::BlenderOriginal,
+                0.411_894_200_83,
+                0.286_596_891_37,
+            ),
+            (
+                NoiseBasis::OriginalPerlin,
+                0.602_255_509_41,
+                0.204_511_018_81,
+            ),
+            (
+                NoiseBasis::ImprovedPerlin,
+                0.595_821_290_04,
+                0.245_890_276_91,
+            ),
+            (NoiseBasis::VoronoiF1, 0.380_558_765_63, 0.371_432_257_95),
+            (NoiseBasis::VoronoiF2F1, 0.149_593_649_95, 0.700_812_700_09),
+            (
+                NoiseBasis::VoronoiCrackle,
+                0.737_413_460_16,
+                0.865_263_047_21,
+            ),
+            (NoiseBasis::CellNoise, 0.563_673_658_03, 0.404_900_670_05),
+        ];
+        for (basis, soft, hard) in cases {
+            let noise = |hard| BlenderNoise {
+                basis,
+                size: 0.25,
+                hard,
+            };
+            let t = noise(false).turbulence(p, 2);
+            assert!(close(t, soft, 2e-5), "{basis:?} soft: {t}");
+            let t = noise(true).turbulence(p, 2);
+            assert!(close(t, hard, 2e-5), "{basis:?} hard: {t}");
+        }
+        let soft = BlenderNoise {
+            basis: NoiseBasis::BlenderOriginal,
+            size: 0.25,
+            hard: false,
+        };
+        assert!(close(soft.noise(p), 0.297_521_285_75, 1e-5));
+        let hard = BlenderNoise {
+            basis: NoiseBasis::ImprovedPerlin,
+            size: 0.5,
+            hard: true,
+        };
+        let r = Vec3::new(-4.6, 2.35, 7.9);
+        assert!(close(hard.noise(r), 0.379_802_408_25, 1e-5));
+    }
+
+    /// `mg_VLNoise` from the same transcription: Blender's original basis distorting itself,
+    /// and cell noise distorting Voronoi F1 by 2.5.
+    #[test]
+    fn distorted_noise_matches_the_c_source() {
+        let p = Vec3::new(1.2, -0.7, 2.9);
+        let original = NoiseBasis::BlenderOriginal;
+        let v = distorted_noise(p, 1.0, original, original);
+        assert!(close(v, -0.689_983_023_96, 1e-5), "{v}");
+        let v = distorted_noise(p, 2.5, NoiseBasis::CellNoise, NoiseBasis::VoronoiF1);
+        assert!(close(v, -0.356_997_309_75, 1e-5), "{v}");
+    }
 }
