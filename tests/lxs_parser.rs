@@ -680,11 +680,11 @@ fn dots_show_luxrenders_swapped_inside_and_outside() {
     assert_eq!(dots(1), (TexParam::float(0.0), TexParam::float(1.0)));
 }
 
-/// The Blender procedurals without a noise basis are graph nodes with LuxRender 1.x's names
-/// and defaults (`textures/blender_*.h`); wood's noisy types stay grey stand-ins, warned; an
-/// unknown type name is warned and read as the default, as LuxRender does.
+/// The Blender procedurals are graph nodes with LuxRender 1.x's names and defaults
+/// (`textures/blender_*.h`, `blender_base.cpp`); an unknown type or basis name is warned and
+/// read as the default, as LuxRender does.
 #[test]
-fn blender_textures_without_noise_bases() {
+fn blender_textures_read_luxrenders_parameters() {
     let s = scene(
         "blender",
         "WorldBegin\n\
@@ -693,10 +693,21 @@ fn blender_textures_without_noise_bases() {
          Texture \"w\" \"float\" \"blender_wood\" \"string type\" [\"rings\"] \"string noisebasis2\" [\"saw\"]\n\
          \"string noisebasis\" [\"blender_original\"] \"float noisesize\" [0.25] \"float turbulence\" [5]\n\
          Texture \"x\" \"float\" \"blender_blend\" \"string type\" [\"spiral\"] \"float tex1\" [0.2]\n\
-         Texture \"n\" \"float\" \"blender_wood\" \"string type\" [\"ringnoise\"]\n\
+         Texture \"n\" \"float\" \"blender_wood\" \"string type\" [\"ringnoise\"] \"string noisetype\" [\"hard_noise\"]\n\
+         Texture \"c\" \"color\" \"blender_clouds\" \"string type\" [\"color\"] \"string noisebasis\" [\"improved_perlin\"] \"integer noisedepth\" [4]\n\
+         Texture \"a\" \"float\" \"blender_marble\" \"string type\" [\"sharper\"] \"string noisebasis2\" [\"tri\"] \"float noisesize\" [0.5]\n\
+         Texture \"g\" \"float\" \"blender_musgrave\" \"string type\" [\"hetero_terrain\"] \"float h\" [0.5] \"float octs\" [3.5]\n\
+         Texture \"d\" \"float\" \"blender_distortednoise\" \"string type\" [\"voronoi_f2_f1\"] \"string noisebasis\" [\"cell_noise\"] \"float distamount\" [2] \"float nabla\" [0.02]\n\
+         Texture \"s\" \"float\" \"blender_stucci\" \"string type\" [\"wall_out\"] \"string noisebasis\" [\"perlin\"]\n\
+         Texture \"v\" \"float\" \"blender_voronoi\" \"string distmetric\" [\"minkovsky\"] \"float minkovsky_exp\" [3] \"integer coltype\" [2] \"float w2\" [-0.5]\n\
+         Texture \"z\" \"float\" \"blender_noise\"\n\
          WorldEnd\n",
     );
-    use foton::texture::blender::{BlendKind, BlenderPattern, Waveform};
+    use foton::texture::blender::{
+        BlendKind, BlenderPattern, MarbleSharpness, StucciKind, VoronoiColor, Waveform,
+    };
+    use foton::texture::blender_noise::{BlenderNoise, DistanceMetric, NoiseBasis};
+    use foton::texture::musgrave::{Musgrave, MusgraveKind};
     let node = |i: usize| match &s.texture_graph.nodes[i] {
         TextureNode::Blender {
             texture,
@@ -706,6 +717,7 @@ fn blender_textures_without_noise_bases() {
         } => (*texture, *tex1, *tex2),
         other => panic!("not a Blender texture: {other:?}"),
     };
+    let pattern = |i: usize| node(i).0.pattern;
     let (b, tex1, tex2) = node(0);
     assert_eq!(
         b.pattern,
@@ -717,17 +729,24 @@ fn blender_textures_without_noise_bases() {
     assert_eq!((b.bright, b.contrast), (1.2, 1.0));
     assert_eq!((tex1, tex2), (TexParam::float(0.0), TexParam::float(1.0)));
     assert_eq!(
-        node(1).0.pattern,
+        pattern(1),
         BlenderPattern::Magic {
             depth: 3,
             turbulence: 4.0
         }
     );
+    let soft = |basis| BlenderNoise {
+        basis,
+        size: 0.25,
+        hard: false,
+    };
     assert_eq!(
-        node(2).0.pattern,
+        pattern(2),
         BlenderPattern::Wood {
             rings: true,
-            wave: Waveform::Saw
+            wave: Waveform::Saw,
+            noise: None,
+            turbulence: 5.0,
         }
     );
     let (x, tex1, _) = node(3);
@@ -739,14 +758,94 @@ fn blender_textures_without_noise_bases() {
         }
     );
     assert_eq!(tex1, TexParam::float(0.2));
-    assert_eq!(s.texture_graph.nodes.len(), 4);
+    assert_eq!(
+        pattern(4),
+        BlenderPattern::Wood {
+            rings: true,
+            wave: Waveform::Sine,
+            noise: Some(BlenderNoise {
+                hard: true,
+                ..soft(NoiseBasis::BlenderOriginal)
+            }),
+            turbulence: 5.0,
+        }
+    );
+    assert_eq!(
+        pattern(5),
+        BlenderPattern::Clouds {
+            noise: soft(NoiseBasis::ImprovedPerlin),
+            depth: 4,
+            color: true
+        }
+    );
+    assert_eq!(
+        pattern(6),
+        BlenderPattern::Marble {
+            noise: BlenderNoise {
+                size: 0.5,
+                ..soft(NoiseBasis::BlenderOriginal)
+            },
+            depth: 2,
+            turbulence: 5.0,
+            wave: Waveform::Triangle,
+            sharpness: MarbleSharpness::Sharper,
+        }
+    );
+    assert_eq!(
+        pattern(7),
+        BlenderPattern::Musgrave {
+            fractal: Musgrave {
+                kind: MusgraveKind::HeteroTerrain,
+                h: 0.5,
+                lacunarity: 2.0,
+                octaves: 3.5,
+                offset: 1.0,
+                gain: 1.0,
+                basis: NoiseBasis::BlenderOriginal,
+            },
+            size: 0.25,
+            outscale: 1.0,
+        }
+    );
+    assert_eq!(
+        pattern(8),
+        BlenderPattern::DistortedNoise {
+            size: 0.25,
+            amount: 2.0,
+            distortion: NoiseBasis::CellNoise,
+            basis: NoiseBasis::VoronoiF2F1,
+        }
+    );
+    assert_eq!(
+        pattern(9),
+        BlenderPattern::Stucci {
+            noise: soft(NoiseBasis::BlenderOriginal),
+            turbulence: 5.0,
+            kind: StucciKind::WallOut,
+        }
+    );
+    assert_eq!(
+        pattern(10),
+        BlenderPattern::Voronoi {
+            metric: DistanceMetric::Minkowski(3.0),
+            weights: [1.0, -0.5, 0.0, 0.0],
+            size: 0.25,
+            outscale: 1.0,
+            color: VoronoiColor::CellsEdged,
+        }
+    );
+    assert_eq!(pattern(11), BlenderPattern::Noise { depth: 2 });
+    assert_eq!(s.texture_graph.nodes.len(), 12);
     let w = messages(&s);
     assert_eq!(w.len(), 2, "{w:?}");
     assert!(
         w[0].contains("\"type\" \"spiral\" unknown: \"lin\""),
         "{w:?}"
     );
-    assert!(w[1].contains("class \"blender_wood\" unsupported"), "{w:?}");
+    assert!(
+        w[1].contains("blender_stucci: \"noisebasis\" \"perlin\" unknown"),
+        "{w:?}"
+    );
 }
 
 // ---------------------------------------------------------------- shapes

@@ -1,19 +1,27 @@
-//! LuxRender 1.x's ports of Blender's procedural textures that need no noise basis:
-//! `blender_blend`, `blender_magic` and `blender_wood` with `type` "bands" or "rings"
-//! (`textures/blender_base.h`, `blender_blend.h`, `blender_magic.h`, `blender_wood.h`, and the
-//! texture functions `blend`, `magic`, `wood_int` of `textures/blender_texlib.cpp`, which
-//! LuxRender took from Blender 2.4x's `texture.c`).
+//! LuxRender 1.x's ports of Blender's procedural textures (`textures/blender_base.h`,
+//! `blender_*.h`, and the texture functions of `textures/blender_texlib.cpp`, which LuxRender
+//! took from Blender 2.4x's `texture.c`): `blender_blend`, `blender_magic`, `blender_wood`,
+//! `blender_clouds`, `blender_marble`, `blender_musgrave`, `blender_distortednoise`,
+//! `blender_stucci`, `blender_voronoi` and `blender_noise`. The noise bases they read are in
+//! [`super::blender_noise`], the Musgrave fractals in [`super::musgrave`].
 //!
 //! Each gives an intensity f at the mapped point, and the texture is (1 - f) `tex1` + f `tex2`
 //! (`BlenderTexture3D::Evaluate`: `Lerp(GetF(P), t1, t2)`, defaults `tex1` 0, `tex2` 1).
 //! Blender's brightness and contrast come last: f = (f - 1/2) contrast + bright - 1/2, clamped
-//! to [0, 1] for an intensity (`BRICONT`); for a colour (magic) each channel is mapped the same
-//! way but only clamped at 0 (`BRICONTRGB`), and the intensity is
-//! min(0.35 r + 0.45 g + 0.2 b, 1) (`BlenderTexture3D::GetF`).
+//! to [0, 1] for an intensity (`BRICONT`); for a colour (magic, clouds "color", voronoi with a
+//! `coltype`) each channel is mapped the same way but only clamped at 0 (`BRICONTRGB`), and the
+//! intensity is min(0.35 r + 0.45 g + 0.2 b, 1) (`BlenderTexture3D::GetF`). Stucci applies
+//! neither (Blender's `stucci()` returns its noise as is, clamped at 0).
+//!
+//! The Musgrave, Voronoi and distorted noise patterns divide the point by `noisesize` first
+//! (`multitex`: "for Blender convention reason"); the others pass the size to the noise.
 
 use std::f32::consts::PI;
 
 use glam::Vec3;
+
+use super::blender_noise::{self, BlenderNoise, DistanceMetric, NoiseBasis};
+use super::musgrave::Musgrave;
 
 /// `blender_blend`'s progression (`"string type"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,7 +53,40 @@ pub enum Waveform {
     Triangle,
 }
 
-/// Blender's procedural pattern, with its parameters.
+/// `blender_marble`'s `"type"`: the wave as is ("soft"), or its square root ("sharp") or
+/// fourth root ("sharper").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MarbleSharpness {
+    Soft,
+    Sharp,
+    Sharper,
+}
+
+/// `blender_stucci`'s `"type"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StucciKind {
+    /// "plastic": the noise a fixed offset up in z.
+    Plastic,
+    /// "wall_in": the offset scaled by the square of the noise.
+    WallIn,
+    /// "wall_out": as "wall_in", then 1 - f.
+    WallOut,
+}
+
+/// `blender_voronoi`'s `"coltype"`: 0 an intensity, 1 to 3 colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VoronoiColor {
+    /// 0: the weighted distances.
+    Intensity,
+    /// 1: the weighted cell colours of the four nearest features.
+    Cells,
+    /// 2: those colours darkened at the cells' borders, min(10 (F2 - F1), 1).
+    CellsEdged,
+    /// 3: as 2, also scaled by the intensity.
+    CellsEdgedShaded,
+}
+
+/// Blender's procedural pattern, with its parameters (LuxRender's names and defaults).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BlenderPattern {
     /// `blender_blend`: `type` ("lin"), `flipxy` (false) swaps x and y.
@@ -53,8 +94,62 @@ pub enum BlenderPattern {
     /// `blender_magic`: `noisedepth` (2) folds of sines and cosines, `turbulence` (5).
     Magic { depth: u32, turbulence: f32 },
     /// `blender_wood` "bands" (waves along x + y + z, 10 per unit) or "rings" (about the
-    /// origin, 20 per unit of radius).
-    Wood { rings: bool, wave: Waveform },
+    /// origin, 20 per unit of radius); "bandnoise" and "ringnoise" add `turbulence` (5) times
+    /// the noise to the wave's phase.
+    Wood {
+        rings: bool,
+        wave: Waveform,
+        noise: Option<BlenderNoise>,
+        turbulence: f32,
+    },
+    /// `blender_clouds`: turbulence of `noisedepth` (2) octaves; `type` "color" draws three
+    /// turbulences at permuted coordinates.
+    Clouds {
+        noise: BlenderNoise,
+        depth: u32,
+        color: bool,
+    },
+    /// `blender_marble`: the wave `noisebasis2` ("sin") of 5 (x + y + z) plus `turbulence`
+    /// (5) times a turbulence of `noisedepth` (2) octaves.
+    Marble {
+        noise: BlenderNoise,
+        depth: u32,
+        turbulence: f32,
+        wave: Waveform,
+        sharpness: MarbleSharpness,
+    },
+    /// `blender_musgrave`: `outscale` (1) times the fractal of p / `noisesize` (0.25).
+    Musgrave {
+        fractal: Musgrave,
+        size: f32,
+        outscale: f32,
+    },
+    /// `blender_distortednoise`: the basis `type` at p / `noisesize` displaced by `distamount`
+    /// (1) times the basis `noisebasis`.
+    DistortedNoise {
+        size: f32,
+        amount: f32,
+        distortion: NoiseBasis,
+        basis: NoiseBasis,
+    },
+    /// `blender_stucci`: `turbulence` (5) / 200 sets the offset.
+    Stucci {
+        noise: BlenderNoise,
+        turbulence: f32,
+        kind: StucciKind,
+    },
+    /// `blender_voronoi`: `outscale` / sum |w| times |w1 F1 + w2 F2 + w3 F3 + w4 F4| at
+    /// p / `noisesize` under `distmetric` (weights 1, 0, 0, 0).
+    Voronoi {
+        metric: DistanceMetric,
+        weights: [f32; 4],
+        size: f32,
+        outscale: f32,
+        color: VoronoiColor,
+    },
+    /// `blender_noise`: white noise, the product of `noisedepth` + 1 (2 + 1) random values in
+    /// {0, 1, 2, 3} over 3^(depth + 1).
+    Noise { depth: u32 },
 }
 
 /// A pattern with Blender's `bright` (1) and `contrast` (1).
@@ -65,29 +160,172 @@ pub struct BlenderTexture {
     pub contrast: f32,
 }
 
+/// What a Blender texture function returns (`TEX_INT` or `TEX_RGB`), before brightness and
+/// contrast; stucci's value skips them.
+enum PatternValue {
+    Intensity(f32),
+    Color(Vec3),
+    Unadjusted(f32),
+}
+
 impl BlenderTexture {
     /// The intensity f in [0, 1] at texture-space point `p`.
     pub fn intensity(&self, p: Vec3) -> f32 {
         let adjust = |v: f32| (v - 0.5) * self.contrast + self.bright - 0.5;
-        match self.pattern {
-            BlenderPattern::Blend { kind, flip_xy } => {
-                adjust(blend(kind, flip_xy, p)).clamp(0.0, 1.0)
+        match self.pattern.value(p) {
+            PatternValue::Intensity(f) => adjust(f).clamp(0.0, 1.0),
+            PatternValue::Color(rgb) => {
+                let rgb = Vec3::new(adjust(rgb.x), adjust(rgb.y), adjust(rgb.z)).max(Vec3::ZERO);
+                (0.35 * rgb.x + 0.45 * rgb.y + 0.2 * rgb.z).min(1.0)
             }
-            BlenderPattern::Wood { rings, wave } => {
+            PatternValue::Unadjusted(f) => f,
+        }
+    }
+}
+
+/// `p` over a noise size, unless the size is 0.
+fn over_size(p: Vec3, size: f32) -> Vec3 {
+    if size != 0.0 { p / size } else { p }
+}
+
+impl BlenderPattern {
+    fn value(&self, p: Vec3) -> PatternValue {
+        use PatternValue::{Color, Intensity, Unadjusted};
+        match *self {
+            BlenderPattern::Blend { kind, flip_xy } => Intensity(blend(kind, flip_xy, p)),
+            BlenderPattern::Magic { depth, turbulence } => Color(magic(p, depth, turbulence)),
+            BlenderPattern::Wood {
+                rings,
+                wave,
+                noise,
+                turbulence,
+            } => {
                 let phase = if rings {
                     p.length() * 20.0
                 } else {
                     (p.x + p.y + p.z) * 10.0
                 };
-                adjust(wave.at(phase)).clamp(0.0, 1.0)
+                let distortion = noise.map_or(0.0, |n| turbulence * n.noise(p));
+                Intensity(wave.at(phase + distortion))
             }
-            BlenderPattern::Magic { depth, turbulence } => {
-                let rgb = magic(p, depth, turbulence);
-                let rgb = Vec3::new(adjust(rgb.x), adjust(rgb.y), adjust(rgb.z)).max(Vec3::ZERO);
-                (0.35 * rgb.x + 0.45 * rgb.y + 0.2 * rgb.z).min(1.0)
+            BlenderPattern::Clouds {
+                noise,
+                depth,
+                color,
+            } => {
+                let r = noise.turbulence(p, depth);
+                if color {
+                    let g = noise.turbulence(Vec3::new(p.y, p.x, p.z), depth);
+                    let b = noise.turbulence(Vec3::new(p.y, p.z, p.x), depth);
+                    Color(Vec3::new(r, g, b))
+                } else {
+                    Intensity(r)
+                }
+            }
+            BlenderPattern::Marble {
+                noise,
+                depth,
+                turbulence,
+                wave,
+                sharpness,
+            } => {
+                let phase = 5.0 * (p.x + p.y + p.z) + turbulence * noise.turbulence(p, depth);
+                let m = wave.at(phase);
+                Intensity(match sharpness {
+                    MarbleSharpness::Soft => m,
+                    MarbleSharpness::Sharp => m.sqrt(),
+                    MarbleSharpness::Sharper => m.sqrt().sqrt(),
+                })
+            }
+            BlenderPattern::Musgrave {
+                fractal,
+                size,
+                outscale,
+            } => Intensity(outscale * fractal.value(over_size(p, size))),
+            BlenderPattern::DistortedNoise {
+                size,
+                amount,
+                distortion,
+                basis,
+            } => Intensity(blender_noise::distorted_noise(
+                over_size(p, size),
+                amount,
+                distortion,
+                basis,
+            )),
+            BlenderPattern::Stucci {
+                noise,
+                turbulence,
+                kind,
+            } => {
+                let base = noise.noise(p);
+                let mut offset = turbulence / 200.0;
+                if kind != StucciKind::Plastic {
+                    offset *= base * base;
+                }
+                let f = noise.noise(p + Vec3::new(0.0, 0.0, offset));
+                let f = if kind == StucciKind::WallOut {
+                    1.0 - f
+                } else {
+                    f
+                };
+                Unadjusted(f.max(0.0))
+            }
+            BlenderPattern::Voronoi {
+                metric,
+                weights,
+                size,
+                outscale,
+                color,
+            } => voronoi_texture(over_size(p, size), metric, weights, outscale, color),
+            BlenderPattern::Noise { depth } => {
+                let mut bits = blender_noise::point_bits(p);
+                let mut value = bits & 3;
+                let mut divisor = 3.0f32;
+                for _ in 0..depth {
+                    bits >>= 2;
+                    value *= bits & 3;
+                    divisor *= 3.0;
+                }
+                Intensity(value as f32 / divisor)
             }
         }
     }
+}
+
+/// Blender's `voronoiTex`.
+fn voronoi_texture(
+    p: Vec3,
+    metric: DistanceMetric,
+    weights: [f32; 4],
+    outscale: f32,
+    color: VoronoiColor,
+) -> PatternValue {
+    let (distances, points) = blender_noise::voronoi(p, metric);
+    let total: f32 = weights.iter().map(|w| w.abs()).sum();
+    let scale = if total != 0.0 {
+        outscale / total
+    } else {
+        total
+    };
+    let weighted: f32 = weights.iter().zip(distances).map(|(w, d)| w * d).sum();
+    let intensity = scale * weighted.abs();
+    if color == VoronoiColor::Intensity {
+        return PatternValue::Intensity(intensity);
+    }
+    let rgb: Vec3 = weights
+        .iter()
+        .zip(points)
+        .map(|(w, f)| w.abs() * blender_noise::cell_color(f))
+        .sum();
+    let factor = match color {
+        VoronoiColor::CellsEdged => ((distances[1] - distances[0]) * 10.0).min(1.0) * scale,
+        VoronoiColor::CellsEdgedShaded => {
+            ((distances[1] - distances[0]) * 10.0).min(1.0) * intensity
+        }
+        _ => scale,
+    };
+    PatternValue::Color(rgb * factor)
 }
 
 /// Blender's `blend()`, before brightness and contrast.
@@ -242,6 +480,7 @@ fn magic(p: Vec3, depth: u32, turbulence: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::texture::blender_noise::{BlenderNoise, DistanceMetric, NoiseBasis};
 
     fn plain(pattern: BlenderPattern) -> BlenderTexture {
         BlenderTexture {
@@ -296,7 +535,15 @@ mod tests {
     /// into [0, 1): -0.5 gives 1 - 0.079577.
     #[test]
     fn wood_waves() {
-        let wood = |rings, wave, p: Vec3| plain(BlenderPattern::Wood { rings, wave }).intensity(p);
+        let wood = |rings, wave, p: Vec3| {
+            plain(BlenderPattern::Wood {
+                rings,
+                wave,
+                noise: None,
+                turbulence: 5.0,
+            })
+            .intensity(p)
+        };
         let band = Vec3::new(0.02, 0.01, 0.02);
         assert!((wood(false, Waveform::Sine, band) - 0.739_713).abs() < 1e-5);
         assert!((wood(false, Waveform::Saw, band) - 0.079_577).abs() < 1e-5);
@@ -336,5 +583,183 @@ mod tests {
             .collect();
         assert!(values.iter().all(|v| (0.0..=1.0).contains(v)));
         assert!(values.windows(2).all(|w| w[0] != w[1]), "{values:?}");
+    }
+
+    fn noise(basis: NoiseBasis, size: f32, hard: bool) -> BlenderNoise {
+        BlenderNoise { basis, size, hard }
+    }
+
+    /// The noisy patterns' intensities at p = (0.31, -0.17, 0.44), from an independent float64
+    /// transcription (Python, not foton's code) of `blender_texlib.cpp`'s `clouds`, `marble`,
+    /// `wood`, `stucci`, `voronoiTex` and `BlenderTexture3D::GetF`, with LuxRender's defaults
+    /// (noise size 0.25, depth 2, turbulence 5) unless named.
+    #[test]
+    fn noisy_patterns_match_the_c_source() {
+        let p = Vec3::new(0.31, -0.17, 0.44);
+        let original = noise(NoiseBasis::BlenderOriginal, 0.25, false);
+        let wood = |rings, noise| BlenderPattern::Wood {
+            rings,
+            wave: Waveform::Sine,
+            noise: Some(noise),
+            turbulence: 5.0,
+        };
+        let voronoi = |weights, outscale, metric, color| BlenderPattern::Voronoi {
+            metric,
+            weights,
+            size: 0.25,
+            outscale,
+            color,
+        };
+        let cases = [
+            (
+                "clouds",
+                BlenderPattern::Clouds {
+                    noise: original,
+                    depth: 2,
+                    color: false,
+                },
+                0.240_812_221_09,
+            ),
+            (
+                "clouds color, improved Perlin, hard, depth 3",
+                BlenderPattern::Clouds {
+                    noise: noise(NoiseBasis::ImprovedPerlin, 0.25, true),
+                    depth: 3,
+                    color: true,
+                },
+                0.232_236_937_81,
+            ),
+            (
+                "marble",
+                BlenderPattern::Marble {
+                    noise: original,
+                    depth: 2,
+                    turbulence: 5.0,
+                    wave: Waveform::Sine,
+                    sharpness: MarbleSharpness::Soft,
+                },
+                0.089_697_611_21,
+            ),
+            (
+                "marble sharper, original Perlin, hard, size 0.5, turbulence 3",
+                BlenderPattern::Marble {
+                    noise: noise(NoiseBasis::OriginalPerlin, 0.5, true),
+                    depth: 2,
+                    turbulence: 3.0,
+                    wave: Waveform::Sine,
+                    sharpness: MarbleSharpness::Sharper,
+                },
+                0.743_447_624_18,
+            ),
+            ("wood bandnoise", wood(false, original), 0.817_093_681_69),
+            (
+                "wood ringnoise, improved Perlin",
+                wood(true, noise(NoiseBasis::ImprovedPerlin, 0.25, false)),
+                0.453_414_062_27,
+            ),
+            (
+                "stucci plastic",
+                BlenderPattern::Stucci {
+                    noise: original,
+                    turbulence: 5.0,
+                    kind: StucciKind::Plastic,
+                },
+                0.233_832_180_55,
+            ),
+            (
+                "stucci wall in, hard",
+                BlenderPattern::Stucci {
+                    noise: noise(NoiseBasis::BlenderOriginal, 0.25, true),
+                    turbulence: 5.0,
+                    kind: StucciKind::WallIn,
+                },
+                0.537_103_611_93,
+            ),
+            (
+                "stucci wall out, improved Perlin, turbulence 20",
+                BlenderPattern::Stucci {
+                    noise: noise(NoiseBasis::ImprovedPerlin, 0.25, false),
+                    turbulence: 20.0,
+                    kind: StucciKind::WallOut,
+                },
+                0.759_445_367_76,
+            ),
+            (
+                "voronoi F1",
+                voronoi(
+                    [1.0, 0.0, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::Intensity,
+                ),
+                0.490_543_159_15,
+            ),
+            (
+                "voronoi weighted, Minkowski 2.5, outscale 1.5",
+                voronoi(
+                    [1.0, -0.5, 0.3, 0.0],
+                    1.5,
+                    DistanceMetric::Minkowski(2.5),
+                    VoronoiColor::Intensity,
+                ),
+                0.266_296_569_17,
+            ),
+            (
+                "voronoi cell colours",
+                voronoi(
+                    [1.0, 0.0, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::Cells,
+                ),
+                0.729_323_25,
+            ),
+            (
+                "voronoi edged colours",
+                voronoi(
+                    [0.8, 0.4, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::CellsEdged,
+                ),
+                0.648_529_933_33,
+            ),
+            (
+                "voronoi edged shaded colours",
+                voronoi(
+                    [0.8, 0.4, 0.0, 0.0],
+                    1.0,
+                    DistanceMetric::Actual,
+                    VoronoiColor::CellsEdgedShaded,
+                ),
+                0.452_150_127_71,
+            ),
+        ];
+        for (name, pattern, expected) in cases {
+            let v = plain(pattern).intensity(p);
+            assert!((f64::from(v) - expected).abs() < 2e-5, "{name}: {v}");
+        }
+    }
+
+    /// `blender_noise` is white: every depth gives values k / 3^(depth + 1) for k a product of
+    /// depth + 1 factors in {0, 1, 2, 3}, with mean (3/2)^(depth + 1) / 3^(depth + 1) =
+    /// 2^-(depth + 1); over 20000 points the mean of depth 2 (1/8, standard deviation of one
+    /// value sqrt(E[v^2] - 1/64) with E[v^2] = (14/4)^3 / 3^6 = 0.0588, so 0.21) is within
+    /// 4 sigma / sqrt(20000) = 0.006 of 1/8.
+    #[test]
+    fn noise_is_white_with_blenders_distribution() {
+        let pattern = plain(BlenderPattern::Noise { depth: 2 });
+        let n = 20_000;
+        let mut sum = 0.0f64;
+        for i in 0..n {
+            let t = i as f32;
+            let p = Vec3::new(t * 0.013, (t * 0.618_034).fract(), -t * 0.007);
+            let v = pattern.intensity(p);
+            let k = v * 27.0;
+            assert!((k - k.round()).abs() < 1e-4 && k.round() <= 27.0, "{v}");
+            sum += f64::from(v);
+        }
+        let mean = sum / f64::from(n);
+        assert!((mean - 0.125).abs() < 0.006, "{mean}");
     }
 }

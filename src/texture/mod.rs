@@ -9,11 +9,14 @@
 
 pub mod blackbody;
 pub mod blender;
+pub mod blender_noise;
+mod blender_tables;
 pub mod checkerboard;
 pub mod dots;
 pub mod harlequin;
 pub mod mapping;
 pub mod marble;
+pub mod musgrave;
 pub mod noise;
 
 use glam::{Vec2, Vec3};
@@ -109,8 +112,9 @@ pub enum TextureNode {
     Blackbody { rgb: Vec3 },
     /// `harlequin`: a colour per object.
     Harlequin,
-    /// The Blender procedurals without a noise basis (`blender_blend`, `blender_magic`,
-    /// `blender_wood` bands and rings): (1 - f) `tex1` + f `tex2` (defaults 0, 1) of the
+    /// The Blender procedurals (`blender_blend`, `blender_clouds`, `blender_distortednoise`,
+    /// `blender_magic`, `blender_marble`, `blender_musgrave`, `blender_noise`, `blender_stucci`,
+    /// `blender_voronoi`, `blender_wood`): (1 - f) `tex1` + f `tex2` (defaults 0, 1) of the
     /// pattern's intensity f.
     Blender {
         mapping: Mapping3D,

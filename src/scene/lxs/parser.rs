@@ -437,12 +437,16 @@ impl Parser {
         Ok(())
     }
 
-    /// Adds a material of LuxRender type `kind`, noting a `glass2` (unbumped: a bumped one
-    /// keeps its no-volume index 1), whose index the shapes' volumes set.
+    /// Adds a material of LuxRender type `kind`, noting a `glass2` (bumped or not), whose
+    /// index the shapes' volumes set.
     fn push_material(&mut self, kind: &str, material: MaterialDesc) -> MaterialId {
+        let interface = match &material {
+            MaterialDesc::Bump { material, .. } => &self.scene.materials[*material],
+            other => other,
+        };
         let glass2 = kind == "glass2"
             && matches!(
-                material,
+                interface,
                 MaterialDesc::Dielectric { .. } | MaterialDesc::ThinDielectric { .. }
             );
         self.scene.materials.push(material);

@@ -7,8 +7,26 @@ use glam::{Affine3A, Vec2, Vec3};
 use super::params::ParamList;
 use super::parser::Parser;
 use crate::scene::desc::{ColorParam, SceneError};
-use crate::texture::blender::{BlendKind, BlenderPattern, BlenderTexture, Waveform};
+use crate::texture::blender::{
+    BlendKind, BlenderPattern, BlenderTexture, MarbleSharpness, StucciKind, VoronoiColor, Waveform,
+};
+use crate::texture::blender_noise::{BlenderNoise, DistanceMetric, NoiseBasis};
+use crate::texture::musgrave::{Musgrave, MusgraveKind};
 use crate::texture::{Mapping2D, Mapping3D, TexParam, TextureNode};
+
+/// LuxRender's Blender texture classes (`textures/blender_*.h`).
+const BLENDER_CLASSES: [&str; 10] = [
+    "blender_blend",
+    "blender_clouds",
+    "blender_distortednoise",
+    "blender_magic",
+    "blender_marble",
+    "blender_musgrave",
+    "blender_noise",
+    "blender_stucci",
+    "blender_voronoi",
+    "blender_wood",
+];
 
 impl Parser {
     /// The graph node for a texture of class `class`, or `None` for a class foton lacks.
@@ -113,10 +131,8 @@ impl Parser {
             },
             "blackbody" => TextureNode::blackbody(params.float("temperature")?.unwrap_or(6500.0)),
             "harlequin" => TextureNode::Harlequin,
-            "blender_blend" | "blender_magic" | "blender_wood" => {
-                let Some(pattern) = self.blender_pattern(class, line, params)? else {
-                    return Ok(None);
-                };
+            class if BLENDER_CLASSES.contains(&class) => {
+                let pattern = self.blender_pattern(class, line, params)?;
                 TextureNode::Blender {
                     texture: BlenderTexture {
                         pattern,
@@ -132,33 +148,25 @@ impl Parser {
         }))
     }
 
-    /// The pattern of a Blender texture that needs no noise basis, with LuxRender 1.x's
-    /// parameter names and defaults (`textures/blender_blend.h`, `blender_magic.h`,
-    /// `blender_wood.h`, `blender_base.cpp` for the names of the types); `None` for wood's
-    /// noisy types, which need Blender's noise bases. An unknown type name is warned and read
-    /// as the default, as LuxRender does.
+    /// The pattern of a Blender texture, with LuxRender 1.x's parameter names and defaults
+    /// (`textures/blender_*.h`, `blender_base.cpp` for the names of the types). An unknown type
+    /// name is warned and read as the default, as LuxRender does.
     fn blender_pattern(
         &mut self,
         class: &str,
         line: usize,
         params: &mut ParamList,
-    ) -> Result<Option<BlenderPattern>, SceneError> {
-        let mut choice = |parser: &mut Self, name: &str, default: &str, known: &[&str]| {
-            let value = params.string(name)?.unwrap_or_else(|| default.to_owned());
-            Ok::<_, SceneError>(if known.contains(&value.as_str()) {
-                value
-            } else {
-                parser.warn(
-                    line,
-                    format!("{class}: \"{name}\" \"{value}\" unknown: \"{default}\""),
-                );
-                default.to_owned()
-            })
+    ) -> Result<BlenderPattern, SceneError> {
+        let depth = |p: &mut ParamList| -> Result<u32, SceneError> {
+            Ok(p.int("noisedepth")?.unwrap_or(2).clamp(0, 30) as u32)
         };
-        Ok(Some(match class {
+        let float = |p: &mut ParamList, name: &str, default: f32| -> Result<f32, SceneError> {
+            Ok(p.float(name)?.unwrap_or(default))
+        };
+        Ok(match class {
             "blender_blend" => {
                 let kinds = ["lin", "quad", "ease", "diag", "sphere", "halo", "radial"];
-                let kind = match choice(self, "type", "lin", &kinds)?.as_str() {
+                let kind = match self.choice(class, line, params, "type", &kinds)?.as_str() {
                     "quad" => BlendKind::Quadratic,
                     "ease" => BlendKind::Ease,
                     "diag" => BlendKind::Diagonal,
@@ -174,28 +182,225 @@ impl Parser {
             }
             "blender_magic" => BlenderPattern::Magic {
                 depth: params.int("noisedepth")?.unwrap_or(2).clamp(0, 10) as u32,
-                turbulence: params.float("turbulence")?.unwrap_or(5.0),
+                turbulence: float(params, "turbulence", 5.0)?,
             },
-            _ => {
+            "blender_wood" => {
                 let types = ["bands", "rings", "bandnoise", "ringnoise"];
-                let rings = match choice(self, "type", "bands", &types)?.as_str() {
-                    "bandnoise" | "ringnoise" => return Ok(None),
-                    kind => kind == "rings",
-                };
-                let wave =
-                    match choice(self, "noisebasis2", "sin", &["sin", "saw", "tri"])?.as_str() {
-                        "saw" => Waveform::Saw,
-                        "tri" => Waveform::Triangle,
-                        _ => Waveform::Sine,
-                    };
-                // The noise parameters LuxBlend writes shape only the noisy types.
-                params.string("noisebasis")?;
-                params.string("noisetype")?;
-                params.float("noisesize")?;
-                params.float("turbulence")?;
-                BlenderPattern::Wood { rings, wave }
+                let kind = self.choice(class, line, params, "type", &types)?;
+                let wave = self.waveform(class, line, params)?;
+                let noise = self.blender_noise(class, line, params)?;
+                BlenderPattern::Wood {
+                    rings: kind.starts_with("ring"),
+                    wave,
+                    noise: kind.ends_with("noise").then_some(noise),
+                    turbulence: float(params, "turbulence", 5.0)?,
+                }
             }
+            "blender_clouds" => {
+                let color = self.choice(class, line, params, "type", &["default", "color"])?;
+                BlenderPattern::Clouds {
+                    noise: self.blender_noise(class, line, params)?,
+                    depth: depth(params)?,
+                    color: color == "color",
+                }
+            }
+            "blender_marble" => {
+                let kinds = ["soft", "sharp", "sharper"];
+                let sharpness = match self.choice(class, line, params, "type", &kinds)?.as_str() {
+                    "sharp" => MarbleSharpness::Sharp,
+                    "sharper" => MarbleSharpness::Sharper,
+                    _ => MarbleSharpness::Soft,
+                };
+                BlenderPattern::Marble {
+                    noise: self.blender_noise(class, line, params)?,
+                    depth: depth(params)?,
+                    turbulence: float(params, "turbulence", 5.0)?,
+                    wave: self.waveform(class, line, params)?,
+                    sharpness,
+                }
+            }
+            "blender_musgrave" => {
+                let kinds = [
+                    "multifractal",
+                    "ridged_multifractal",
+                    "hybrid_multifractal",
+                    "hetero_terrain",
+                    "fbm",
+                ];
+                let kind = match self.choice(class, line, params, "type", &kinds)?.as_str() {
+                    "ridged_multifractal" => MusgraveKind::RidgedMultifractal,
+                    "hybrid_multifractal" => MusgraveKind::HybridMultifractal,
+                    "hetero_terrain" => MusgraveKind::HeteroTerrain,
+                    "fbm" => MusgraveKind::Fbm,
+                    _ => MusgraveKind::Multifractal,
+                };
+                BlenderPattern::Musgrave {
+                    fractal: Musgrave {
+                        kind,
+                        h: float(params, "h", 1.0)?,
+                        lacunarity: float(params, "lacu", 2.0)?,
+                        octaves: float(params, "octs", 2.0)?.clamp(0.0, 64.0),
+                        offset: float(params, "offset", 1.0)?,
+                        gain: float(params, "gain", 1.0)?,
+                        basis: self.noise_basis(class, line, params, "noisebasis")?,
+                    },
+                    size: float(params, "noisesize", 0.25)?,
+                    outscale: float(params, "outscale", 1.0)?,
+                }
+            }
+            "blender_distortednoise" => {
+                // `nabla` is Blender's step for bump normals; foton's bump map differentiates
+                // the texture itself.
+                params.float("nabla")?;
+                BlenderPattern::DistortedNoise {
+                    size: float(params, "noisesize", 0.25)?,
+                    amount: float(params, "distamount", 1.0)?,
+                    distortion: self.noise_basis(class, line, params, "noisebasis")?,
+                    basis: self.noise_basis(class, line, params, "type")?,
+                }
+            }
+            "blender_stucci" => {
+                let kinds = ["plastic", "wall_in", "wall_out"];
+                let kind = match self.choice(class, line, params, "type", &kinds)?.as_str() {
+                    "wall_in" => StucciKind::WallIn,
+                    "wall_out" => StucciKind::WallOut,
+                    _ => StucciKind::Plastic,
+                };
+                BlenderPattern::Stucci {
+                    noise: self.blender_noise(class, line, params)?,
+                    turbulence: float(params, "turbulence", 5.0)?,
+                    kind,
+                }
+            }
+            "blender_voronoi" => {
+                let metrics = [
+                    "actual_distance",
+                    "distance_squared",
+                    "manhattan",
+                    "chebychev",
+                    "minkovsky_half",
+                    "minkovsky_four",
+                    "minkovsky",
+                ];
+                let metric = self.choice(class, line, params, "distmetric", &metrics)?;
+                let exponent = float(params, "minkovsky_exp", 2.5)?;
+                let metric = match metric.as_str() {
+                    "distance_squared" => DistanceMetric::Squared,
+                    "manhattan" => DistanceMetric::Manhattan,
+                    "chebychev" => DistanceMetric::Chebychev,
+                    "minkovsky_half" => DistanceMetric::MinkowskiHalf,
+                    "minkovsky_four" => DistanceMetric::MinkowskiFour,
+                    "minkovsky" => DistanceMetric::Minkowski(exponent),
+                    _ => DistanceMetric::Actual,
+                };
+                // Blender tests `coltype` as nonzero, >= 2 and == 3.
+                let color = match params.int("coltype")?.unwrap_or(0) {
+                    0 => VoronoiColor::Intensity,
+                    3 => VoronoiColor::CellsEdgedShaded,
+                    c if c >= 2 => VoronoiColor::CellsEdged,
+                    _ => VoronoiColor::Cells,
+                };
+                params.float("nabla")?;
+                BlenderPattern::Voronoi {
+                    metric,
+                    weights: [
+                        float(params, "w1", 1.0)?,
+                        float(params, "w2", 0.0)?,
+                        float(params, "w3", 0.0)?,
+                        float(params, "w4", 0.0)?,
+                    ],
+                    size: float(params, "noisesize", 0.25)?,
+                    outscale: float(params, "outscale", 1.0)?,
+                    color,
+                }
+            }
+            _ => BlenderPattern::Noise {
+                depth: depth(params)?,
+            },
+        })
+    }
+
+    /// A string parameter that must be one of `known` (the first is LuxRender's default): an
+    /// unknown value is warned and read as the default.
+    fn choice(
+        &mut self,
+        class: &str,
+        line: usize,
+        params: &mut ParamList,
+        name: &str,
+        known: &[&str],
+    ) -> Result<String, SceneError> {
+        let default = known[0];
+        let value = params.string(name)?.unwrap_or_else(|| default.to_owned());
+        Ok(if known.contains(&value.as_str()) {
+            value
+        } else {
+            self.warn(
+                line,
+                format!("{class}: \"{name}\" \"{value}\" unknown: \"{default}\""),
+            );
+            default.to_owned()
+        })
+    }
+
+    /// A noise basis named by `name` ("blender_original" when absent or unknown).
+    fn noise_basis(
+        &mut self,
+        class: &str,
+        line: usize,
+        params: &mut ParamList,
+        name: &str,
+    ) -> Result<NoiseBasis, SceneError> {
+        let value = params.string(name)?;
+        let value = value.as_deref().unwrap_or("blender_original");
+        Ok(NoiseBasis::from_name(value).unwrap_or_else(|| {
+            self.warn(
+                line,
+                format!("{class}: \"{name}\" \"{value}\" unknown: \"blender_original\""),
+            );
+            NoiseBasis::BlenderOriginal
         }))
+    }
+
+    /// `noisebasis`, `noisesize` (0.25) and `noisetype` ("soft_noise" or "hard_noise").
+    fn blender_noise(
+        &mut self,
+        class: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<BlenderNoise, SceneError> {
+        let basis = self.noise_basis(class, line, params, "noisebasis")?;
+        let hardness = self.choice(
+            class,
+            line,
+            params,
+            "noisetype",
+            &["soft_noise", "hard_noise"],
+        )?;
+        Ok(BlenderNoise {
+            basis,
+            size: params.float("noisesize")?.unwrap_or(0.25),
+            hard: hardness == "hard_noise",
+        })
+    }
+
+    /// `noisebasis2`, the wave of wood and marble: "sin" (default), "saw", "tri".
+    fn waveform(
+        &mut self,
+        class: &str,
+        line: usize,
+        params: &mut ParamList,
+    ) -> Result<Waveform, SceneError> {
+        Ok(
+            match self
+                .choice(class, line, params, "noisebasis2", &["sin", "saw", "tri"])?
+                .as_str()
+            {
+                "saw" => Waveform::Saw,
+                "tri" => Waveform::Triangle,
+                _ => Waveform::Sine,
+            },
+        )
     }
 
     /// A texture input: a value (one float or a colour) or the name of a texture.

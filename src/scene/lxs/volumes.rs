@@ -164,30 +164,52 @@ impl Parser {
                 .and_then(|name| self.volumes.ior.get(name).copied())
         };
         let ior = relative_ior(index(&key.1), index(&key.2));
+        // A bumped glass2 (LuxRender 1.x bumps any material, `core/material.cpp`) keeps its
+        // bump map over the interface of the volumes' index.
         let interface = match self.scene.materials[id].clone() {
-            MaterialDesc::Dielectric {
-                reflectance,
-                transmittance,
-                ..
-            } => MaterialDesc::Dielectric {
-                reflectance,
-                transmittance,
-                ior,
-            },
-            MaterialDesc::ThinDielectric {
-                reflectance,
-                transmittance,
-                ..
-            } => MaterialDesc::ThinDielectric {
-                reflectance,
-                transmittance,
-                ior,
-            },
-            other => other,
+            MaterialDesc::Bump {
+                material,
+                height,
+                sample_distance,
+            } => {
+                let inner = with_ior(self.scene.materials[material].clone(), ior);
+                self.scene.materials.push(inner);
+                MaterialDesc::Bump {
+                    material: self.scene.materials.len() - 1,
+                    height,
+                    sample_distance,
+                }
+            }
+            other => with_ior(other, ior),
         };
         self.scene.materials.push(interface);
         let made = self.scene.materials.len() - 1;
         self.volumes.interfaces.insert(key, made);
         Some(made)
+    }
+}
+
+/// A smooth (or thin) dielectric `material` with its index replaced by `ior`.
+fn with_ior(material: MaterialDesc, ior: f32) -> MaterialDesc {
+    match material {
+        MaterialDesc::Dielectric {
+            reflectance,
+            transmittance,
+            ..
+        } => MaterialDesc::Dielectric {
+            reflectance,
+            transmittance,
+            ior,
+        },
+        MaterialDesc::ThinDielectric {
+            reflectance,
+            transmittance,
+            ..
+        } => MaterialDesc::ThinDielectric {
+            reflectance,
+            transmittance,
+            ior,
+        },
+        other => other,
     }
 }
