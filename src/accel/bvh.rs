@@ -102,43 +102,38 @@ impl Node {
     /// 2005), so entry and exit are one subtraction and one product each, with no min/max.
     /// Returns each box's entry distance and the mask of boxes entered in `(t_min, t_max)`.
     #[inline(always)]
-    fn hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Vec4, u32) {
+    fn hit(&self, ray: &Ray, slabs: &Slabs, t_min: Vec4, t_max: f32) -> (Vec4, u32) {
         let slab = |axis: usize, side: usize| {
-            (self.bounds[2 * axis + side] - ray.origin4[axis]) * ray.inv_dir4[axis]
+            (self.bounds[2 * axis + side] - ray.origin4[axis]) * slabs.inv_dir4[axis]
         };
-        let near = (slab(0, ray.near_side[0]).max(slab(1, ray.near_side[1])))
-            .max(slab(2, ray.near_side[2]));
-        let far = (slab(0, 1 - ray.near_side[0]).min(slab(1, 1 - ray.near_side[1])))
-            .min(slab(2, 1 - ray.near_side[2]))
+        let near = (slab(0, slabs.near_side[0]).max(slab(1, slabs.near_side[1])))
+            .max(slab(2, slabs.near_side[2]));
+        let far = (slab(0, 1 - slabs.near_side[0]).min(slab(1, 1 - slabs.near_side[1])))
+            .min(slab(2, 1 - slabs.near_side[2]))
             * SLAB_ROBUSTNESS;
-        // `max(near, t_min) <= min(far, t_max)` as plain comparisons. No NaN occurs: origins and
-        // bounds are finite or the empty box's ±∞, and `Ray::new` keeps `inv_dir` finite and
+        // `max(near, t_min) <= min(far, t_max)`: a box is entered in the range when its slab
+        // interval and `(t_min, t_max)` overlap. One comparison where three did it (`near <=
+        // far`, `near <= t_max`, `far >= t_min`, equivalent as `t_min < t_max`); `near` itself
+        // stays unclamped, so the children are ordered as before. No NaN occurs: origins and
+        // bounds are finite or the empty box's ±∞, and `Slabs::new` keeps `inv_dir` finite and
         // nonzero.
-        let mask = near.cmple(far) & near.cmple(Vec4::splat(t_max)) & far.cmpge(Vec4::splat(t_min));
+        let mask = near.max(t_min).cmple(far.min(Vec4::splat(t_max)));
         (near, mask.bitmask())
     }
 }
 
-/// A ray prepared for traversal: the reciprocal direction, the four-lane splats the node test
-/// uses, and which side of each slab it enters first, computed once.
+/// A ray prepared for the leaf tests: its origin and direction, and each of their coordinates
+/// splatted over four lanes.
 pub(crate) struct Ray {
     pub origin: Vec3A,
     pub dir: Vec3A,
-    /// Each coordinate of the origin and the direction splatted over four lanes.
     pub origin4: [Vec4; 3],
     pub dir4: [Vec4; 3],
-    inv_dir4: [Vec4; 3],
-    /// 0 where the direction is positive (enters through the lower bound), 1 where negative.
-    near_side: [usize; 3],
 }
 
 impl Ray {
     /// `None` for a ray that cannot hit anything: a non-finite origin or direction, or a zero
-    /// direction. A direction component below the smallest normal float (zero, say) is replaced
-    /// by that float with the same sign, so the reciprocal stays finite (at most ~8.5e37) and
-    /// nonzero, and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of
-    /// such an axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for
-    /// any practical purpose.
+    /// direction.
     #[inline(always)]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Option<Ray> {
         // `x · 0` is 0 for a finite `x` and NaN for ±∞ or NaN, and NaN equals nothing: one
@@ -147,19 +142,47 @@ impl Ray {
         if !(finite.all() && dir.cmpne(Vec3A::ZERO).any()) {
             return None;
         }
-        // All three components at once (a select, not a branch per axis): the sign is kept,
-        // so -0 becomes -MIN_POSITIVE and its slab is entered from the upper bound.
-        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
-        let inv_dir = Vec3A::select(dir.abs().cmplt(tiny), tiny.copysign(dir), dir).recip();
-        let negative = inv_dir.is_negative_bitmask() as usize;
         Some(Ray {
             origin,
             dir,
             origin4: [0, 1, 2].map(|axis| Vec4::splat(origin[axis])),
             dir4: [0, 1, 2].map(|axis| Vec4::splat(dir[axis])),
+        })
+    }
+}
+
+/// What the box tests need of a ray besides its origin: the reciprocal direction splatted over
+/// four lanes and which side of each slab it enters first. Prepared by the traversal only when
+/// the tree has a node to test: a tree that is one leaf (a scene of a few primitives) goes
+/// straight to its primitives.
+struct Slabs {
+    inv_dir4: [Vec4; 3],
+    /// 0 where the direction is positive (enters through the lower bound), 1 where negative.
+    near_side: [usize; 3],
+}
+
+impl Slabs {
+    const UNUSED: Slabs = Slabs {
+        inv_dir4: [Vec4::ZERO; 3],
+        near_side: [0; 3],
+    };
+
+    /// A direction component below the smallest normal float (zero, say) is replaced by that
+    /// float with the same sign, so the reciprocal stays finite (at most ~8.5e37) and nonzero,
+    /// and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of such an
+    /// axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for any
+    /// practical purpose.
+    #[inline(always)]
+    fn new(dir: Vec3A) -> Slabs {
+        // All three components at once (a select, not a branch per axis): the sign is kept,
+        // so -0 becomes -MIN_POSITIVE and its slab is entered from the upper bound.
+        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
+        let inv_dir = Vec3A::select(dir.abs().cmplt(tiny), tiny.copysign(dir), dir).recip();
+        let negative = inv_dir.is_negative_bitmask() as usize;
+        Slabs {
             inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
             near_side: [0, 1, 2].map(|axis| negative >> axis & 1),
-        })
+        }
     }
 }
 
@@ -237,6 +260,14 @@ impl Bvh {
         let Some((mut current, _)) = self.root else {
             return false;
         };
+        // A tree that is one leaf (a scene of a few primitives) has no box to test: its rays
+        // skip the slab preparation (and the leaf test stays inlined once, in the loop).
+        let slabs = if current & LEAF == 0 {
+            Slabs::new(ray.dir)
+        } else {
+            Slabs::UNUSED
+        };
+        let t_min4 = Vec4::splat(t_min);
         // Children still to visit, with the distance at which the ray enters them. Left
         // uninitialised: zeroing 1.5 KiB per ray costs as much as a small scene's traversal.
         let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK_SIZE];
@@ -252,13 +283,18 @@ impl Bvh {
             } else {
                 prefetch_leaf(item.0 & !LEAF);
             }
-            stack[*depth].write(item);
+            // SAFETY: at most 3 entries wait per level of a tree at most 63 levels deep (see
+            // `SAH_DEPTH_LIMIT`), so `*depth < STACK_SIZE`.
+            debug_assert!(*depth < STACK_SIZE);
+            unsafe { stack.get_unchecked_mut(*depth).write(item) };
             *depth += 1;
         };
         loop {
             if current & LEAF == 0 {
-                let node = &self.nodes[current as usize];
-                let (near, mask) = node.hit(ray, t_min, *t_max);
+                // SAFETY: every interior child word was written by `collapse` as the index of
+                // a node it had pushed.
+                let node = unsafe { self.nodes.get_unchecked(current as usize) };
+                let (near, mask) = node.hit(ray, &slabs, t_min4, *t_max);
                 if mask != 0 {
                     // The entered children by count, as Embree's traversal does: one is
                     // visited at once; of two the nearer is visited and the other pushed; of
@@ -322,8 +358,9 @@ impl Bvh {
                     return false;
                 }
                 depth -= 1;
-                // SAFETY: entries below `depth` were all written by the pushes above.
-                let (child, near) = unsafe { stack[depth].assume_init() };
+                // SAFETY: entries below `depth < STACK_SIZE` were all written by the pushes
+                // above.
+                let (child, near) = unsafe { stack.get_unchecked(depth).assume_init() };
                 if near <= *t_max {
                     current = child;
                     break;
