@@ -103,13 +103,14 @@ impl Node {
     /// Returns each box's entry distance and the mask of boxes entered in `(t_min, t_max)`.
     #[inline(always)]
     fn hit(&self, ray: &Ray, slabs: &Slabs, t_min: Vec4, t_max: f32) -> (Vec4, u32) {
-        let slab = |axis: usize, side: usize| {
-            (self.bounds[2 * axis + side] - ray.origin4[axis]) * slabs.inv_dir4[axis]
+        let slab = |axis: usize, offset: usize| {
+            // SAFETY: `offset` is one of `Slabs::new`'s byte offsets of a `bounds` entry,
+            // `16 (2 axis + side)` with `side` 0 or 1: in bounds and 16-byte aligned.
+            let bound = unsafe { *self.bounds.as_ptr().byte_add(offset) };
+            (bound - ray.origin4[axis]) * slabs.inv_dir4[axis]
         };
-        let near = (slab(0, slabs.near_side[0]).max(slab(1, slabs.near_side[1])))
-            .max(slab(2, slabs.near_side[2]));
-        let far = (slab(0, 1 - slabs.near_side[0]).min(slab(1, 1 - slabs.near_side[1])))
-            .min(slab(2, 1 - slabs.near_side[2]))
+        let near = (slab(0, slabs.near[0]).max(slab(1, slabs.near[1]))).max(slab(2, slabs.near[2]));
+        let far = (slab(0, slabs.far[0]).min(slab(1, slabs.far[1]))).min(slab(2, slabs.far[2]))
             * SLAB_ROBUSTNESS;
         // `max(near, t_min) <= min(far, t_max)`: a box is entered in the range when its slab
         // interval and `(t_min, t_max)` overlap. One comparison where three did it (`near <=
@@ -157,14 +158,20 @@ impl Ray {
 /// straight to its primitives.
 struct Slabs {
     inv_dir4: [Vec4; 3],
-    /// 0 where the direction is positive (enters through the lower bound), 1 where negative.
-    near_side: [usize; 3],
+    /// Per axis, the byte offset in a node's `bounds` of the plane the ray enters the slab
+    /// through (the lower bound where the direction is positive, the upper where negative),
+    /// and of the one it leaves through. Offsets, not indices, so that the node loop adds
+    /// them to the node's address as they are (an index would be scaled by 16 at every node:
+    /// x86's addressing scales by at most 8).
+    near: [usize; 3],
+    far: [usize; 3],
 }
 
 impl Slabs {
     const UNUSED: Slabs = Slabs {
         inv_dir4: [Vec4::ZERO; 3],
-        near_side: [0; 3],
+        near: [0; 3],
+        far: [0; 3],
     };
 
     /// A direction component below the smallest normal float (zero, say) is replaced by that
@@ -179,9 +186,11 @@ impl Slabs {
         let tiny = Vec3A::splat(f32::MIN_POSITIVE);
         let inv_dir = Vec3A::select(dir.abs().cmplt(tiny), tiny.copysign(dir), dir).recip();
         let negative = inv_dir.is_negative_bitmask() as usize;
+        let offset = |axis: usize, side: usize| (2 * axis + side) * size_of::<Vec4>();
         Slabs {
             inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
-            near_side: [0, 1, 2].map(|axis| negative >> axis & 1),
+            near: [0, 1, 2].map(|axis| offset(axis, negative >> axis & 1)),
+            far: [0, 1, 2].map(|axis| offset(axis, 1 - (negative >> axis & 1))),
         }
     }
 }
