@@ -181,10 +181,11 @@ impl Slabs {
     /// practical purpose.
     #[inline(always)]
     fn new(dir: Vec3A) -> Slabs {
-        // All three components at once (a select, not a branch per axis): the sign is kept,
-        // so -0 becomes -MIN_POSITIVE and its slab is entered from the upper bound.
+        // All three components at once (no branch per axis): the magnitude raised to the
+        // smallest normal float, the sign kept, so -0 becomes -MIN_POSITIVE and its slab is
+        // entered from the upper bound.
         let tiny = Vec3A::splat(f32::MIN_POSITIVE);
-        let inv_dir = Vec3A::select(dir.abs().cmplt(tiny), tiny.copysign(dir), dir).recip();
+        let inv_dir = dir.abs().max(tiny).copysign(dir).recip();
         let negative = inv_dir.is_negative_bitmask() as usize;
         let offset = |axis: usize, side: usize| (2 * axis + side) * size_of::<Vec4>();
         Slabs {
