@@ -713,6 +713,64 @@ mod tests {
         );
     }
 
+    /// A ray reaches exactly the leaves whose box its range `(t_min, t_max)` overlaps: none
+    /// wholly before `t_min` or after `t_max` (they cost work and can hold no hit in range),
+    /// and every one that overlaps it (else hits would be lost). Boxes along a line, every
+    /// fourth one off it, and ranges starting and ending inside boxes and in the gaps (one wholly in a gap).
+    #[test]
+    fn rays_reach_the_leaves_their_range_overlaps() {
+        let mut p: Vec<BuildPrim> = (0..200)
+            .map(|i| {
+                let x = i as f32;
+                let y = if i % 4 == 3 { 5.0 } else { 0.0 };
+                let b =
+                    Aabb::from_points([Vec3A::new(x, y, 0.0), Vec3A::new(x + 0.5, y + 1.0, 1.0)]);
+                BuildPrim::new(b, i, 0)
+            })
+            .collect();
+        let mut leaves = Vec::new();
+        let (bvh, _) = Bvh::build(&mut p, |_, run| {
+            leaves.push(run.iter().fold(Aabb::EMPTY, |b, q| b.union(q.bounds)));
+            (leaves.len() - 1) as u32
+        });
+        // Along +x through the boxes on the line, from x = -1: `t` is x + 1.
+        let ray = Ray::new(Vec3A::new(-1.0, 0.5, 0.5), Vec3A::X).unwrap();
+        let mut checked = 0;
+        let ranges = [
+            (0.0, 300.0),
+            (10.2, 20.7),
+            (30.0, 31.0),
+            (50.75, 90.25),
+            (40.6, 40.9),
+        ];
+        for (t_min, t_max) in ranges {
+            let mut reached = vec![false; leaves.len()];
+            let mut t = t_max;
+            bvh.traverse(
+                &ray,
+                t_min,
+                &mut t,
+                true,
+                |payload, _| {
+                    reached[payload as usize] = true;
+                    false
+                },
+                |_| {},
+            );
+            for (leaf, bounds) in leaves.iter().enumerate() {
+                let on_line = bounds.min.y <= 0.5 && bounds.max.y >= 0.5;
+                let (enter, exit) = (bounds.min.x + 1.0, bounds.max.x + 1.0);
+                let overlaps = on_line && enter <= t_max && exit >= t_min;
+                assert_eq!(
+                    reached[leaf], overlaps,
+                    "leaf {leaf} for ({t_min}, {t_max})"
+                );
+                checked += overlaps as usize;
+            }
+        }
+        assert!(checked > 20, "{checked}");
+    }
+
     /// Past the SAH depth limit every split halves the count, so a subtree over `n` primitives
     /// adds at most `ceil(log2 n)` levels: the bound the traversal stack relies on.
     #[test]
