@@ -102,43 +102,39 @@ impl Node {
     /// 2005), so entry and exit are one subtraction and one product each, with no min/max.
     /// Returns each box's entry distance and the mask of boxes entered in `(t_min, t_max)`.
     #[inline(always)]
-    fn hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Vec4, u32) {
-        let slab = |axis: usize, side: usize| {
-            (self.bounds[2 * axis + side] - ray.origin4[axis]) * ray.inv_dir4[axis]
+    fn hit(&self, ray: &Ray, slabs: &Slabs, t_min: Vec4, t_max: f32) -> (Vec4, u32) {
+        let slab = |axis: usize, offset: usize| {
+            // SAFETY: `offset` is one of `Slabs::new`'s byte offsets of a `bounds` entry,
+            // `16 (2 axis + side)` with `side` 0 or 1: in bounds and 16-byte aligned.
+            let bound = unsafe { *self.bounds.as_ptr().byte_add(offset) };
+            (bound - ray.origin4[axis]) * slabs.inv_dir4[axis]
         };
-        let near = (slab(0, ray.near_side[0]).max(slab(1, ray.near_side[1])))
-            .max(slab(2, ray.near_side[2]));
-        let far = (slab(0, 1 - ray.near_side[0]).min(slab(1, 1 - ray.near_side[1])))
-            .min(slab(2, 1 - ray.near_side[2]))
+        let near = (slab(0, slabs.near[0]).max(slab(1, slabs.near[1]))).max(slab(2, slabs.near[2]));
+        let far = (slab(0, slabs.far[0]).min(slab(1, slabs.far[1]))).min(slab(2, slabs.far[2]))
             * SLAB_ROBUSTNESS;
-        // `max(near, t_min) <= min(far, t_max)` as plain comparisons. No NaN occurs: origins and
-        // bounds are finite or the empty box's ±∞, and `Ray::new` keeps `inv_dir` finite and
+        // `max(near, t_min) <= min(far, t_max)`: a box is entered in the range when its slab
+        // interval and `(t_min, t_max)` overlap. One comparison where three did it (`near <=
+        // far`, `near <= t_max`, `far >= t_min`, equivalent as `t_min < t_max`); `near` itself
+        // stays unclamped, so the children are ordered as before. No NaN occurs: origins and
+        // bounds are finite or the empty box's ±∞, and `Slabs::new` keeps `inv_dir` finite and
         // nonzero.
-        let mask = near.cmple(far) & near.cmple(Vec4::splat(t_max)) & far.cmpge(Vec4::splat(t_min));
+        let mask = near.max(t_min).cmple(far.min(Vec4::splat(t_max)));
         (near, mask.bitmask())
     }
 }
 
-/// A ray prepared for traversal: the reciprocal direction, the four-lane splats the node test
-/// uses, and which side of each slab it enters first, computed once.
+/// A ray prepared for the leaf tests: its origin and direction, and each of their coordinates
+/// splatted over four lanes.
 pub(crate) struct Ray {
     pub origin: Vec3A,
     pub dir: Vec3A,
-    /// Each coordinate of the origin and the direction splatted over four lanes.
     pub origin4: [Vec4; 3],
     pub dir4: [Vec4; 3],
-    inv_dir4: [Vec4; 3],
-    /// 0 where the direction is positive (enters through the lower bound), 1 where negative.
-    near_side: [usize; 3],
 }
 
 impl Ray {
     /// `None` for a ray that cannot hit anything: a non-finite origin or direction, or a zero
-    /// direction. A direction component below the smallest normal float (zero, say) is replaced
-    /// by that float with the same sign, so the reciprocal stays finite (at most ~8.5e37) and
-    /// nonzero, and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of
-    /// such an axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for
-    /// any practical purpose.
+    /// direction.
     #[inline(always)]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Option<Ray> {
         // `x · 0` is 0 for a finite `x` and NaN for ±∞ or NaN, and NaN equals nothing: one
@@ -147,19 +143,56 @@ impl Ray {
         if !(finite.all() && dir.cmpne(Vec3A::ZERO).any()) {
             return None;
         }
-        // All three components at once (a select, not a branch per axis): the sign is kept,
-        // so -0 becomes -MIN_POSITIVE and its slab is entered from the upper bound.
-        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
-        let inv_dir = Vec3A::select(dir.abs().cmplt(tiny), tiny.copysign(dir), dir).recip();
-        let negative = inv_dir.is_negative_bitmask() as usize;
         Some(Ray {
             origin,
             dir,
             origin4: [0, 1, 2].map(|axis| Vec4::splat(origin[axis])),
             dir4: [0, 1, 2].map(|axis| Vec4::splat(dir[axis])),
-            inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
-            near_side: [0, 1, 2].map(|axis| negative >> axis & 1),
         })
+    }
+}
+
+/// What the box tests need of a ray besides its origin: the reciprocal direction splatted over
+/// four lanes and which side of each slab it enters first. Prepared by the traversal only when
+/// the tree has a node to test: a tree that is one leaf (a scene of a few primitives) goes
+/// straight to its primitives.
+struct Slabs {
+    inv_dir4: [Vec4; 3],
+    /// Per axis, the byte offset in a node's `bounds` of the plane the ray enters the slab
+    /// through (the lower bound where the direction is positive, the upper where negative),
+    /// and of the one it leaves through. Offsets, not indices, so that the node loop adds
+    /// them to the node's address as they are (an index would be scaled by 16 at every node:
+    /// x86's addressing scales by at most 8).
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+impl Slabs {
+    const UNUSED: Slabs = Slabs {
+        inv_dir4: [Vec4::ZERO; 3],
+        near: [0; 3],
+        far: [0; 3],
+    };
+
+    /// A direction component below the smallest normal float (zero, say) is replaced by that
+    /// float with the same sign, so the reciprocal stays finite (at most ~8.5e37) and nonzero,
+    /// and the slab test's `(bound - o) · inv_dir` is never `0 · ∞ = NaN`. The slab of such an
+    /// axis then spans `t` in `±δ · 8.5e37` for an origin `δ` inside it: unbounded for any
+    /// practical purpose.
+    #[inline(always)]
+    fn new(dir: Vec3A) -> Slabs {
+        // All three components at once (no branch per axis): the magnitude raised to the
+        // smallest normal float, the sign kept, so -0 becomes -MIN_POSITIVE and its slab is
+        // entered from the upper bound.
+        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
+        let inv_dir = dir.abs().max(tiny).copysign(dir).recip();
+        let negative = inv_dir.is_negative_bitmask() as usize;
+        let offset = |axis: usize, side: usize| (2 * axis + side) * size_of::<Vec4>();
+        Slabs {
+            inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
+            near: [0, 1, 2].map(|axis| offset(axis, negative >> axis & 1)),
+            far: [0, 1, 2].map(|axis| offset(axis, 1 - (negative >> axis & 1))),
+        }
     }
 }
 
@@ -237,6 +270,14 @@ impl Bvh {
         let Some((mut current, _)) = self.root else {
             return false;
         };
+        // A tree that is one leaf (a scene of a few primitives) has no box to test: its rays
+        // skip the slab preparation (and the leaf test stays inlined once, in the loop).
+        let slabs = if current & LEAF == 0 {
+            Slabs::new(ray.dir)
+        } else {
+            Slabs::UNUSED
+        };
+        let t_min4 = Vec4::splat(t_min);
         // Children still to visit, with the distance at which the ray enters them. Left
         // uninitialised: zeroing 1.5 KiB per ray costs as much as a small scene's traversal.
         let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK_SIZE];
@@ -252,13 +293,18 @@ impl Bvh {
             } else {
                 prefetch_leaf(item.0 & !LEAF);
             }
-            stack[*depth].write(item);
+            // SAFETY: at most 3 entries wait per level of a tree at most 63 levels deep (see
+            // `SAH_DEPTH_LIMIT`), so `*depth < STACK_SIZE`.
+            debug_assert!(*depth < STACK_SIZE);
+            unsafe { stack.get_unchecked_mut(*depth).write(item) };
             *depth += 1;
         };
         loop {
             if current & LEAF == 0 {
-                let node = &self.nodes[current as usize];
-                let (near, mask) = node.hit(ray, t_min, *t_max);
+                // SAFETY: every interior child word was written by `collapse` as the index of
+                // a node it had pushed.
+                let node = unsafe { self.nodes.get_unchecked(current as usize) };
+                let (near, mask) = node.hit(ray, &slabs, t_min4, *t_max);
                 if mask != 0 {
                     // The entered children by count, as Embree's traversal does: one is
                     // visited at once; of two the nearer is visited and the other pushed; of
@@ -322,8 +368,9 @@ impl Bvh {
                     return false;
                 }
                 depth -= 1;
-                // SAFETY: entries below `depth` were all written by the pushes above.
-                let (child, near) = unsafe { stack[depth].assume_init() };
+                // SAFETY: entries below `depth < STACK_SIZE` were all written by the pushes
+                // above.
+                let (child, near) = unsafe { stack.get_unchecked(depth).assume_init() };
                 if near <= *t_max {
                     current = child;
                     break;
@@ -664,6 +711,64 @@ mod tests {
             used_lanes * 10 >= bvh.node_count() * 4 * 6,
             "lanes {used_lanes}"
         );
+    }
+
+    /// A ray reaches exactly the leaves whose box its range `(t_min, t_max)` overlaps: none
+    /// wholly before `t_min` or after `t_max` (they cost work and can hold no hit in range),
+    /// and every one that overlaps it (else hits would be lost). Boxes along a line, every
+    /// fourth one off it, and ranges starting and ending inside boxes and in the gaps (one wholly in a gap).
+    #[test]
+    fn rays_reach_the_leaves_their_range_overlaps() {
+        let mut p: Vec<BuildPrim> = (0..200)
+            .map(|i| {
+                let x = i as f32;
+                let y = if i % 4 == 3 { 5.0 } else { 0.0 };
+                let b =
+                    Aabb::from_points([Vec3A::new(x, y, 0.0), Vec3A::new(x + 0.5, y + 1.0, 1.0)]);
+                BuildPrim::new(b, i, 0)
+            })
+            .collect();
+        let mut leaves = Vec::new();
+        let (bvh, _) = Bvh::build(&mut p, |_, run| {
+            leaves.push(run.iter().fold(Aabb::EMPTY, |b, q| b.union(q.bounds)));
+            (leaves.len() - 1) as u32
+        });
+        // Along +x through the boxes on the line, from x = -1: `t` is x + 1.
+        let ray = Ray::new(Vec3A::new(-1.0, 0.5, 0.5), Vec3A::X).unwrap();
+        let mut checked = 0;
+        let ranges = [
+            (0.0, 300.0),
+            (10.2, 20.7),
+            (30.0, 31.0),
+            (50.75, 90.25),
+            (40.6, 40.9),
+        ];
+        for (t_min, t_max) in ranges {
+            let mut reached = vec![false; leaves.len()];
+            let mut t = t_max;
+            bvh.traverse(
+                &ray,
+                t_min,
+                &mut t,
+                true,
+                |payload, _| {
+                    reached[payload as usize] = true;
+                    false
+                },
+                |_| {},
+            );
+            for (leaf, bounds) in leaves.iter().enumerate() {
+                let on_line = bounds.min.y <= 0.5 && bounds.max.y >= 0.5;
+                let (enter, exit) = (bounds.min.x + 1.0, bounds.max.x + 1.0);
+                let overlaps = on_line && enter <= t_max && exit >= t_min;
+                assert_eq!(
+                    reached[leaf], overlaps,
+                    "leaf {leaf} for ({t_min}, {t_max})"
+                );
+                checked += overlaps as usize;
+            }
+        }
+        assert!(checked > 20, "{checked}");
     }
 
     /// Past the SAH depth limit every split halves the count, so a subtree over `n` primitives
