@@ -41,12 +41,12 @@ use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
 /// batch state per path (twice, with the compaction's spare columns), plus its hit and shadow
-/// ray, a chunk of 8k keeps its batches within about 2 MB. Measured (README, Speed) from 4k to
+/// ray, a chunk of 16k keeps its batches within about 4 MB. Measured (README, Speed) from 4k to
 /// 64k on the three peer scenes: callgrind's cache simulation has 4k and 8k miss a 512 KB L2
-/// 12 % to 38 % less than 16k for the same instructions, and the wall clock at 2 threads (under
-/// load) had 4k and 8k no slower than 16k; 8k rather than 4k keeps eight 1k-path blocks per
-/// stage to share between the threads at the first bounce.
-pub const DEFAULT_CHUNK_PATHS: usize = 8 * 1024;
+/// 12 % to 38 % less than 16k for the same instructions, but on a quiet machine at 2 threads
+/// 16k was faster than 8k in all six scene-rounds (more work per stage to share between the
+/// threads), and 32k no faster than 16k.
+pub const DEFAULT_CHUNK_PATHS: usize = 16 * 1024;
 
 /// The world and the schedules that render it.
 pub struct Renderer {
