@@ -7,8 +7,7 @@ use std::f32::consts::PI;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use super::{CameraStage, CameraType, generate_camera_rays, register_for};
-use crate::integrator::batch::PathBatch;
+use super::{CameraRays, CameraStage, CameraType, register_for};
 use crate::settings::RenderSettings;
 
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,9 +40,9 @@ pub fn equirectangular_direction(longitude: f32, latitude: f32) -> Vec3 {
     Vec3::new(cos_lat * sin_lon, sin_lat, cos_lat * cos_lon)
 }
 
-fn generate_equirectangular_rays(settings: Res<RenderSettings>, mut batch: ResMut<PathBatch>) {
+fn generate_equirectangular_rays(settings: Res<RenderSettings>, mut rays: CameraRays) {
     let (width, height) = (settings.width as f32, settings.height as f32);
-    generate_camera_rays(&mut batch, |film| {
+    rays.generate(|film| {
         let longitude = (film.x / width - 0.5) * 2.0 * PI;
         let latitude = (0.5 - film.y / height) * PI;
         Some((Vec3::ZERO, equirectangular_direction(longitude, latitude)))

@@ -7,8 +7,7 @@ use std::f32::consts::PI;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
-use super::{CameraStage, CameraType, FovRange, generate_camera_rays, register_for};
-use crate::integrator::batch::PathBatch;
+use super::{CameraRays, CameraStage, CameraType, FovRange, register_for};
 use crate::settings::RenderSettings;
 
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -70,7 +69,7 @@ pub fn fisheye_direction(normalized: Vec2, fov_radians: f32) -> Option<Vec3> {
 fn generate_fisheye_rays(
     camera: Single<&Fisheye>,
     settings: Res<RenderSettings>,
-    mut batch: ResMut<PathBatch>,
+    mut rays: CameraRays,
 ) {
     let fov = camera.fov_degrees.clamp(0.0, 360.0) * PI / 180.0;
     let size = Vec2::new(settings.width as f32, settings.height as f32);
@@ -79,7 +78,7 @@ fn generate_fisheye_rays(
         FisheyeFit::Circle => Vec2::splat(size.min_element() * 0.5),
     };
     // Outside the image circle: a black sample that costs no ray.
-    generate_camera_rays(&mut batch, |film| {
+    rays.generate(|film| {
         let centred = (film - size * 0.5) / half_extent;
         fisheye_direction(Vec2::new(centred.x, -centred.y), fov).map(|d| (Vec3::ZERO, d))
     });

@@ -13,7 +13,7 @@ use std::fmt;
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
+use bevy_ecs::system::{ScheduleSystem, SystemParam};
 use glam::{Affine3A, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -117,7 +117,9 @@ pub enum CameraStage {
 }
 
 /// Registers the camera systems in the pass schedule. Each camera adds its system only when the
-/// world has its component, so the schedule holds only what the scene uses.
+/// world has its component, so the schedule holds only what the scene uses. Without a lens
+/// stage, ray generation writes world-space rays itself; with one, it writes camera-space rays
+/// for the lens and a last stage moves them to world space.
 pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
     pass.configure_sets(
         (
@@ -127,13 +129,17 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
         )
             .chain(),
     );
-    pass.add_systems(move_camera_rays_to_world.in_set(CameraStage::ToWorld));
+    world.insert_resource(GeneratedRaySpace::World);
     for camera in CAMERAS {
         (camera.register)(pass, world);
+    }
+    if *world.resource::<GeneratedRaySpace>() == GeneratedRaySpace::Camera {
+        pass.add_systems(move_camera_rays_to_world.in_set(CameraStage::ToWorld));
     }
 }
 
 /// Adds `system` to `stage` when the world has a camera component `C`, to run while it does.
+/// A lens stage makes ray generation leave its rays in camera space.
 pub fn register_for<C: Component, M>(
     pass: &mut Schedule,
     world: &mut World,
@@ -149,16 +155,49 @@ pub fn register_for<C: Component, M>(
         let configs: ScheduleConfigs<ScheduleSystem> =
             system.run_if(any_with_component::<C>).in_set(stage);
         pass.add_systems(configs);
+        if stage == CameraStage::Lens {
+            world.insert_resource(GeneratedRaySpace::Camera);
+        }
     }
 }
 
-/// Fills every path's camera-space ray from its film position: `project` maps a raster position
-/// to (origin, direction), or to `None` where the camera sees nothing (a black sample that costs
-/// no ray).
-pub fn generate_camera_rays(
-    batch: &mut PathBatch,
-    project: impl Fn(Vec2) -> Option<(Vec3, Vec3)> + Sync,
-) {
+/// The space ray generation writes its rays in: camera space when a lens stage follows (optics
+/// are defined in camera space), else world space directly, saving a pass over the rays.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GeneratedRaySpace {
+    Camera,
+    World,
+}
+
+/// What a ray generation system writes: the batch's rays, in the space the schedule wants.
+#[derive(SystemParam)]
+pub struct CameraRays<'w, 's> {
+    batch: ResMut<'w, PathBatch>,
+    pose: Single<'w, 's, &'static CameraPose>,
+    space: Res<'w, GeneratedRaySpace>,
+}
+
+impl CameraRays<'_, '_> {
+    /// Fills every path's ray from its film position: `project` maps a raster position to a
+    /// camera-space (origin, direction), or to `None` where the camera sees nothing (a black
+    /// sample that costs no ray). Moved to world space here unless a lens stage follows: the
+    /// same operations as [`move_camera_rays_to_world`], so the same bits.
+    pub fn generate(&mut self, project: impl Fn(Vec2) -> Option<(Vec3, Vec3)> + Sync) {
+        match *self.space {
+            GeneratedRaySpace::Camera => write_camera_rays(&mut self.batch, project),
+            GeneratedRaySpace::World => {
+                let pose = self.pose.0;
+                write_camera_rays(&mut self.batch, |film| {
+                    project(film).map(|(origin, direction)| to_world(pose, origin, direction))
+                })
+            }
+        }
+    }
+}
+
+/// Fills every path's ray from its film position with `project`; ends the path where it gives
+/// `None`.
+fn write_camera_rays(batch: &mut PathBatch, project: impl Fn(Vec2) -> Option<(Vec3, Vec3)> + Sync) {
     let n = batch.len;
     (
         &batch.film_position[..n],
@@ -175,6 +214,16 @@ pub fn generate_camera_rays(
             }
             None => *alive = false,
         });
+}
+
+/// A camera-space ray in world space: the direction normalised (a lens's focus-scaled direction
+/// becomes a unit one).
+#[inline(always)]
+fn to_world(pose: Affine3A, origin: Vec3, direction: Vec3) -> (Vec3, Vec3) {
+    (
+        pose.transform_point3(origin),
+        pose.transform_vector3(direction).normalize_or_zero(),
+    )
 }
 
 /// Maps a raster position (pixels, y down) to the screen window [xmin, xmax, ymin, ymax] (y up).
@@ -204,7 +253,6 @@ fn move_camera_rays_to_world(camera: Single<&CameraPose>, mut batch: ResMut<Path
         .into_par_iter()
         .with_min_len(1024)
         .for_each(|(origin, direction)| {
-            *origin = pose.transform_point3(*origin);
-            *direction = pose.transform_vector3(*direction).normalize_or_zero();
+            (*origin, *direction) = to_world(pose, *origin, *direction)
         });
 }

@@ -4,8 +4,7 @@
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use super::{CameraStage, CameraType, generate_camera_rays, raster_to_screen, register_for};
-use crate::integrator::batch::PathBatch;
+use super::{CameraRays, CameraStage, CameraType, raster_to_screen, register_for};
 use crate::settings::RenderSettings;
 
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -37,12 +36,12 @@ fn register(pass: &mut Schedule, world: &mut World) {
 fn generate_orthographic_rays(
     camera: Single<&Orthographic>,
     settings: Res<RenderSettings>,
-    mut batch: ResMut<PathBatch>,
+    mut rays: CameraRays,
 ) {
     let window = camera.screen_window;
     let (width, height) = (settings.width, settings.height);
     // z = 1: the focal plane, for a lens, is at the focal distance.
-    generate_camera_rays(&mut batch, |film| {
+    rays.generate(|film| {
         let origin = raster_to_screen(film, width, height, window).extend(0.0);
         Some((origin, Vec3::Z))
     });

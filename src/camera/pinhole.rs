@@ -3,11 +3,10 @@
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
-use super::{
-    CameraSetup, CameraStage, CameraType, FovRange, generate_camera_rays, raster_to_screen,
+use super::{CameraRays, 
+    CameraSetup, CameraStage, CameraType, FovRange, raster_to_screen,
     register_for,
 };
-use crate::integrator::batch::PathBatch;
 use crate::settings::RenderSettings;
 
 /// A perspective projection: screen coordinate 1 is at `tan(fov / 2)` on the plane z = 1.
@@ -50,12 +49,12 @@ fn register(pass: &mut Schedule, world: &mut World) {
 fn generate_pinhole_rays(
     camera: Single<&Pinhole>,
     settings: Res<RenderSettings>,
-    mut batch: ResMut<PathBatch>,
+    mut rays: CameraRays,
 ) {
     let camera = **camera;
     let tan_half_fov = (camera.fov_degrees.to_radians() * 0.5).tan();
     let (width, height) = (settings.width, settings.height);
-    generate_camera_rays(&mut batch, |film| {
+    rays.generate(|film| {
         let screen = raster_to_screen(film, width, height, camera.screen_window);
         Some((Vec3::ZERO, (screen * tan_half_fov).extend(1.0)))
     });
