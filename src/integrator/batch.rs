@@ -98,36 +98,44 @@ impl PathBatch {
     /// Removes the finished paths, handing them to `finish` as film samples (in slot order, so
     /// that results do not depend on scheduling), and moves the live ones to the front in their
     /// order. Returns how many live.
-    pub fn retire(&mut self, finish: impl FnOnce(&[FilmSample])) -> usize {
+    ///
+    /// The partition writes the finished paths' film samples itself (no pass of its own over
+    /// them), and `finish` runs beside the gather of the live paths (`rayon::join`: one
+    /// fork-join where there were two loops one after the other, each thread taking work from
+    /// either, so neither waits at the end of the first).
+    pub fn retire(&mut self, finish: impl FnOnce(&[FilmSample]) + Send) -> usize {
         let n = self.len;
-        let live = self.partition.split(&self.alive[..n]);
-        self.finished.clear();
-        self.finished.par_extend(
-            self.partition.order[live..n]
-                .par_iter()
-                .with_min_len(GATHER_BLOCK)
-                .map(|&slot| FilmSample {
-                    pixel: self.pixel[slot as usize],
-                    position: self.film_position[slot as usize],
-                    radiance: self.radiance[slot as usize],
-                }),
+        let sample = |slot: usize| FilmSample {
+            pixel: self.pixel[slot],
+            position: self.film_position[slot],
+            radiance: self.radiance[slot],
+        };
+        let live = self
+            .partition
+            .split(&self.alive[..n], &mut self.finished, &sample);
+        let finished = std::mem::take(&mut self.finished);
+        rayon::join(
+            || finish(&finished),
+            || {
+                if live < n {
+                    self.gather_live(live);
+                }
+            },
         );
-        finish(&self.finished);
-        if live < n {
-            self.gather_live(live);
-        }
+        self.finished = finished;
         live
     }
 }
 
 /// A stable partition of the slots into live and finished, computed in parallel: each block of
 /// slots counts its live paths, a prefix sum over the counts gives every block its place among
-/// the live and among the finished, and the blocks then write their slot numbers there.
+/// the live and among the finished, and the blocks then write the live paths' slot numbers and
+/// the finished paths' film samples there.
 #[derive(Default)]
 struct Partition {
     /// Live counts per block.
     counts: Vec<usize>,
-    /// Slot numbers: the live ones in order, then the finished ones in order.
+    /// Slot numbers of the live paths, in order.
     order: Vec<u32>,
 }
 
@@ -136,8 +144,14 @@ struct Partition {
 const PARTITION_BLOCK: usize = 4096;
 
 impl Partition {
-    /// Partitions `alive`'s slots; returns how many are live.
-    fn split(&mut self, alive: &[bool]) -> usize {
+    /// Partitions `alive`'s slots: the live ones' numbers to `order`, the finished ones' film
+    /// samples (`sample(slot)`) to `finished`, both in slot order; returns how many are live.
+    fn split(
+        &mut self,
+        alive: &[bool],
+        finished: &mut Vec<FilmSample>,
+        sample: &(impl Fn(usize) -> FilmSample + Sync),
+    ) -> usize {
         self.counts.clear();
         self.counts.par_extend(
             alive
@@ -145,62 +159,74 @@ impl Partition {
                 .map(|block| block.iter().filter(|a| **a).count()),
         );
         let live = self.counts.iter().sum();
-        resize(&mut self.order, alive.len(), 0);
-        let (live_slots, finished_slots) = self.order.split_at_mut(live);
-        write_slots(alive, &self.counts, 0, live_slots, finished_slots);
+        resize(&mut self.order, live, 0);
+        let placeholder = FilmSample {
+            pixel: 0,
+            position: Vec2::ZERO,
+            radiance: Vec3::ZERO,
+        };
+        resize(finished, alive.len() - live, placeholder);
+        let slots = Slots {
+            alive,
+            counts: &self.counts,
+            first: 0,
+        };
+        slots.write(&mut self.order, finished, sample);
         live
     }
 }
 
-/// Writes the slot numbers (from `first`) of the live paths of `alive` to `live` and of the others
-/// to `finished`, in order; `counts` holds the live count of each block. Halves the blocks between
-/// two tasks until one is left.
-fn write_slots(
-    alive: &[bool],
-    counts: &[usize],
+/// A run of whole partition blocks of the slots: their live flags, the live count of each
+/// block, and the first slot's number.
+struct Slots<'a> {
+    alive: &'a [bool],
+    counts: &'a [usize],
     first: usize,
-    live: &mut [u32],
-    finished: &mut [u32],
-) {
-    if counts.len() <= 1 {
-        let (mut l, mut f) = (0, 0);
-        for (i, &a) in alive.iter().enumerate() {
-            let slot = (first + i) as u32;
-            if a {
-                live[l] = slot;
-                l += 1;
-            } else {
-                finished[f] = slot;
-                f += 1;
+}
+
+impl Slots<'_> {
+    /// Writes the numbers of the live slots to `live` and the film samples of the others to
+    /// `finished`, in order. Halves the blocks between two tasks until one is left.
+    fn write(
+        self,
+        live: &mut [u32],
+        finished: &mut [FilmSample],
+        sample: &(impl Fn(usize) -> FilmSample + Sync),
+    ) {
+        if self.counts.len() <= 1 {
+            let (mut l, mut f) = (0, 0);
+            for (i, &a) in self.alive.iter().enumerate() {
+                let slot = self.first + i;
+                if a {
+                    live[l] = slot as u32;
+                    l += 1;
+                } else {
+                    finished[f] = sample(slot);
+                    f += 1;
+                }
             }
+            return;
         }
-        return;
+        let half = self.counts.len() / 2;
+        let split = half * PARTITION_BLOCK;
+        let live_left = self.counts[..half].iter().sum();
+        let (live_left, live_right) = live.split_at_mut(live_left);
+        let (finished_left, finished_right) = finished.split_at_mut(split - live_left.len());
+        let left = Slots {
+            alive: &self.alive[..split],
+            counts: &self.counts[..half],
+            first: self.first,
+        };
+        let right = Slots {
+            alive: &self.alive[split..],
+            counts: &self.counts[half..],
+            first: self.first + split,
+        };
+        rayon::join(
+            || left.write(live_left, finished_left, sample),
+            || right.write(live_right, finished_right, sample),
+        );
     }
-    let half = counts.len() / 2;
-    let split = half * PARTITION_BLOCK;
-    let live_left = counts[..half].iter().sum();
-    let (live_left, live_right) = live.split_at_mut(live_left);
-    let (finished_left, finished_right) = finished.split_at_mut(split - live_left.len());
-    rayon::join(
-        || {
-            write_slots(
-                &alive[..split],
-                &counts[..half],
-                first,
-                live_left,
-                finished_left,
-            )
-        },
-        || {
-            write_slots(
-                &alive[split..],
-                &counts[half..],
-                first + split,
-                live_right,
-                finished_right,
-            )
-        },
-    );
 }
 
 /// Paths per task of the gather.
