@@ -68,8 +68,18 @@ pub struct Renderer {
 struct Stage {
     name: &'static str,
     schedule: Schedule,
-    /// What the stage's work is counted in: the live paths, or the shadow rays.
-    traces_shadow_rays: bool,
+    works_on: StageItems,
+}
+
+/// What a bounce stage works on, and so what its work is counted in.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum StageItems {
+    LivePaths,
+    /// The shadow rays the shading stage made: skipped in a bounce that made none (a scene lit
+    /// only by light the paths hit, such as the furnace's sky), which saves its parallel loop.
+    ShadowRays,
+    /// The live paths, once their shadow rays are traced: skipped as well when there are none.
+    ShadowResults,
 }
 
 impl Stage {
@@ -80,7 +90,7 @@ impl Stage {
         Self {
             name: name.rsplit("::").next().unwrap_or(name),
             schedule,
-            traces_shadow_rays: false,
+            works_on: StageItems::LivePaths,
         }
     }
 }
@@ -166,10 +176,13 @@ impl Renderer {
             Stage::new(trace_closest_hits),
             shade,
             Stage {
-                traces_shadow_rays: true,
+                works_on: StageItems::ShadowRays,
                 ..Stage::new(trace_shadow_rays)
             },
-            Stage::new(gather_unoccluded_light),
+            Stage {
+                works_on: StageItems::ShadowResults,
+                ..Stage::new(gather_unoccluded_light)
+            },
             Stage::new(retire_finished_paths),
         ];
         Self {
@@ -414,12 +427,20 @@ impl Renderer {
                 return rays;
             }
             rays += live as u64;
+            let mut shadow_rays = 0;
             for (i, stage) in self.bounce.iter_mut().enumerate() {
-                let mut items = live;
-                if stage.traces_shadow_rays {
-                    let shadows = world.resource::<ShadowBatch>();
-                    items = shadows.t_max.iter().filter(|t| **t > 0.0).count();
-                    rays += items as u64;
+                let items = match stage.works_on {
+                    StageItems::LivePaths => live,
+                    StageItems::ShadowRays => {
+                        let shadows = world.resource::<ShadowBatch>();
+                        shadow_rays = shadows.t_max.iter().filter(|t| **t > 0.0).count();
+                        rays += shadow_rays as u64;
+                        shadow_rays
+                    }
+                    StageItems::ShadowResults => live,
+                };
+                if stage.works_on != StageItems::LivePaths && shadow_rays == 0 {
+                    continue;
                 }
                 let time = times.as_deref_mut().map(|t| &mut t[i + 1]);
                 run_timed(&mut stage.schedule, world, time, items);
