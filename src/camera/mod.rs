@@ -1,9 +1,8 @@
 //! Cameras as components. Each camera file declares a [`CameraType`]: its names, how it is built
 //! from the scene's camera and the command line, and the system that turns the batch's film
-//! positions into camera-space rays (run only when its component exists). [`CAMERAS`] lists them
-//! all, one line each; the loaders, `--camera` and `scene::build` read it. The stages after ray
-//! generation (the lens, the move to world space) do not know which camera made the rays, and
-//! nothing after them does either.
+//! positions into rays (run only when its component exists). [`CAMERAS`] lists them all, one
+//! line each; the loaders, `--camera` and `scene::build` read it. The lens stage after ray
+//! generation does not know which camera made the rays, and nothing after it does either.
 //!
 //! Ray generation writes directions whose length places the focus surface: a point at distance
 //! `f` in focus lies at `origin + f * direction`. Planar projections write `z = 1` (a focal plane),
@@ -111,30 +110,21 @@ pub struct CameraPose(pub Affine3A);
 pub enum CameraStage {
     /// One projection's ray generation.
     Generate,
-    /// Optional optics applied to any projection's rays.
+    /// Optional optics applied to any projection's camera-space rays; it leaves them in world
+    /// space.
     Lens,
-    ToWorld,
 }
 
 /// Registers the camera systems in the pass schedule. Each camera adds its system only when the
 /// world has its component, so the schedule holds only what the scene uses. Without a lens
 /// stage, ray generation writes world-space rays itself; with one, it writes camera-space rays
-/// for the lens and a last stage moves them to world space.
+/// and the lens moves them to world space (each ray is written in world space by the last
+/// stage that touches it, with no pass of its own for the move).
 pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
-    pass.configure_sets(
-        (
-            CameraStage::Generate,
-            CameraStage::Lens,
-            CameraStage::ToWorld,
-        )
-            .chain(),
-    );
+    pass.configure_sets((CameraStage::Generate, CameraStage::Lens).chain());
     world.insert_resource(GeneratedRaySpace::World);
     for camera in CAMERAS {
         (camera.register)(pass, world);
-    }
-    if *world.resource::<GeneratedRaySpace>() == GeneratedRaySpace::Camera {
-        pass.add_systems(move_camera_rays_to_world.in_set(CameraStage::ToWorld));
     }
 }
 
@@ -162,7 +152,7 @@ pub fn register_for<C: Component, M>(
 }
 
 /// The space ray generation writes its rays in: camera space when a lens stage follows (optics
-/// are defined in camera space), else world space directly, saving a pass over the rays.
+/// are defined in camera space; the lens writes world-space rays), else world space.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GeneratedRaySpace {
     Camera,
@@ -180,8 +170,8 @@ pub struct CameraRays<'w, 's> {
 impl CameraRays<'_, '_> {
     /// Fills every path's ray from its film position: `project` maps a raster position to a
     /// camera-space (origin, direction), or to `None` where the camera sees nothing (a black
-    /// sample that costs no ray). Moved to world space here unless a lens stage follows: the
-    /// same operations as [`move_camera_rays_to_world`], so the same bits.
+    /// sample that costs no ray). Moved to world space here ([`to_world`]) unless a lens stage
+    /// follows.
     pub fn generate(&mut self, project: impl Fn(Vec2) -> Option<(Vec3, Vec3)> + Sync) {
         match *self.space {
             GeneratedRaySpace::Camera => write_camera_rays(&mut self.batch, project),
@@ -219,7 +209,7 @@ fn write_camera_rays(batch: &mut PathBatch, project: impl Fn(Vec2) -> Option<(Ve
 /// A camera-space ray in world space: the direction normalised (a lens's focus-scaled direction
 /// becomes a unit one).
 #[inline(always)]
-fn to_world(pose: Affine3A, origin: Vec3, direction: Vec3) -> (Vec3, Vec3) {
+pub fn to_world(pose: Affine3A, origin: Vec3, direction: Vec3) -> (Vec3, Vec3) {
     (
         pose.transform_point3(origin),
         pose.transform_vector3(direction).normalize_or_zero(),
@@ -243,16 +233,4 @@ pub fn default_screen_window(width: u32, height: u32) -> [f32; 4] {
     } else {
         [-1.0, 1.0, -1.0 / aspect, 1.0 / aspect]
     }
-}
-
-fn move_camera_rays_to_world(camera: Single<&CameraPose>, mut batch: ResMut<PathBatch>) {
-    let pose = camera.0;
-    let batch = &mut *batch;
-    let n = batch.len;
-    (&mut batch.origin[..n], &mut batch.direction[..n])
-        .into_par_iter()
-        .with_min_len(1024)
-        .for_each(|(origin, direction)| {
-            (*origin, *direction) = to_world(pose, *origin, *direction)
-        });
 }

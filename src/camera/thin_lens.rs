@@ -2,13 +2,14 @@
 //!
 //! A ray through the lens centre reaches its point of sharp focus at `origin + f * direction`
 //! (see the module notes in `camera`); every other ray of that pixel sample starts on the lens
-//! disk and passes through the same point (pbrt-v4 §5.2.3, the thin lens model).
+//! disk and passes through the same point (pbrt-v4 §5.2.3, the thin lens model). The lens is the
+//! last camera stage: it leaves the rays in world space.
 
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
 use super::pinhole::{PERSPECTIVE_FOV, Pinhole};
-use super::{CameraSetup, CameraStage, CameraType, register_for};
+use super::{CameraPose, CameraSetup, CameraStage, CameraType, register_for, to_world};
 use crate::integrator::batch::PathBatch;
 use crate::integrator::start_pass::{CameraSampling, LENS_DIMENSION, PassIndex};
 use crate::sampling::warp::concentric_disk;
@@ -70,11 +71,13 @@ fn register(pass: &mut Schedule, world: &mut World) {
 
 fn focus_through_thin_lens(
     lens: Single<&ThinLens>,
+    pose: Single<&CameraPose>,
     pass: Res<PassIndex>,
     sampling: Res<CameraSampling>,
     mut batch: ResMut<PathBatch>,
 ) {
     let lens = **lens;
+    let pose = pose.0;
     let pass_sampler = sampling.sampler.pass(pass.0);
     let sampler = pass_sampler.dimension(LENS_DIMENSION);
     let batch = &mut *batch;
@@ -91,7 +94,7 @@ fn focus_through_thin_lens(
             let sample = sampler.sample(*pixel);
             // Shirley-Chiu's concentric map keeps the sampler's stratification on the disk.
             let on_lens = concentric_disk(sample) * lens.lens_radius;
-            *origin += on_lens.extend(0.0);
-            *direction = focus - *origin;
+            let lens_point = *origin + on_lens.extend(0.0);
+            (*origin, *direction) = to_world(pose, lens_point, focus - lens_point);
         });
 }
