@@ -497,8 +497,7 @@ fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedS
     let mut pixels = sums.chunks_exact_mut(4);
     let mut weights = wx.chunks_exact(4);
     for (pixels, weights) in (&mut pixels).zip(&mut weights) {
-        // f32 to f64 is exact: four conversions in one instruction.
-        let weights = (Vec4::from_slice(weights) * fy).as_dvec4().to_array();
+        let weights = widen(Vec4::from_slice(weights) * fy);
         for (sum, w) in pixels.iter_mut().zip(weights) {
             add_weighted(sum, radiance, w);
         }
@@ -506,6 +505,30 @@ fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedS
     for (sum, &fx) in pixels.into_remainder().iter_mut().zip(weights.remainder()) {
         add_weighted(sum, radiance, f64::from(fx * fy));
     }
+}
+
+/// Four f32 lanes as f64 (exact). On x86-64 two packed conversions (one with AVX), where glam's
+/// `as_dvec4` takes each lane out and converts it alone.
+#[inline(always)]
+fn widen(values: Vec4) -> [f64; 4] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{__m128, _mm_cvtps_pd, _mm_movehl_ps, _mm_storeu_pd};
+        let values = __m128::from(values);
+        let mut wide = [0.0; 4];
+        let (low, high) = wide.split_at_mut(2);
+        // SAFETY: the stores write two f64 each into two-element slices.
+        unsafe {
+            _mm_storeu_pd(low.as_mut_ptr(), _mm_cvtps_pd(values));
+            _mm_storeu_pd(
+                high.as_mut_ptr(),
+                _mm_cvtps_pd(_mm_movehl_ps(values, values)),
+            );
+        }
+        wide
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    values.as_dvec4().to_array()
 }
 
 /// sum += radiance w, lane by lane (each lane one product and one sum: the same roundings as
