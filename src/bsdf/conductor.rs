@@ -56,28 +56,35 @@ fn half_vector(wo: Vec3, wi: Vec3) -> Option<Vec3> {
 
 impl RoughConductor {
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let Some(wh) = half_vector(wo, wi) else {
-            return Vec3::ZERO;
-        };
-        let denom = 4.0 * wo.z * wi.z;
-        if denom <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let dg = self.distribution.d(wh) * self.distribution.g(wo, wi, self.masking);
-        self.reflectance * self.fresnel.eval(wo.dot(wh)) * (dg / denom)
+        self.eval_and_pdf(wo, wi).0
     }
 
-    /// The density of sampled normals mapped through reflection, whose Jacobian
-    /// is d(wh)/d(wi) = 1 / (4 |wo . wh|) (Walter et al. 2007, eq. 14).
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.eval_and_pdf(wo, wi).1
+    }
+
+    /// f(wo, wi) and the density with which [`RoughConductor::sample`] returns `wi`, sharing the
+    /// half vector, D(wh) and Smith's term for `wo` ([`Microfacet::d_g_pdf_wm`]). The density
+    /// is that of the sampled normals mapped through reflection, whose Jacobian is
+    /// d(wh)/d(wi) = 1 / (4 |wo . wh|) (Walter et al. 2007, eq. 14).
+    pub fn eval_and_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         let Some(wh) = half_vector(wo, wi) else {
-            return 0.0;
+            return (Vec3::ZERO, 0.0);
         };
+        let (d, g, pdf_wm) = self.distribution.d_g_pdf_wm(wo, wi, wh, self.masking);
         let cos_oh = wo.dot(wh);
-        if cos_oh <= 0.0 {
-            return 0.0;
-        }
-        self.distribution.pdf_wm(wo, wh) / (4.0 * cos_oh)
+        let denom = 4.0 * wo.z * wi.z;
+        let f = if denom <= 0.0 {
+            Vec3::ZERO
+        } else {
+            self.reflectance * self.fresnel.eval(cos_oh) * (d * g / denom)
+        };
+        let pdf = if cos_oh <= 0.0 {
+            0.0
+        } else {
+            pdf_wm / (4.0 * cos_oh)
+        };
+        (f, pdf)
     }
 
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
@@ -87,6 +94,7 @@ impl RoughConductor {
         let wh = self.distribution.sample_wm(wo, u);
         // Reflect wo about the sampled microfacet normal.
         let wi = 2.0 * wo.dot(wh) * wh - wo;
-        BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))
+        let (f, pdf) = self.eval_and_pdf(wo, wi);
+        BsdfSample::glossy(wi, f, pdf)
     }
 }

@@ -88,6 +88,42 @@ impl Microfacet {
         }
     }
 
+    /// D(wm), G(wo, wi) in the form `masking` and the density of [`Microfacet::sample_wm`] from
+    /// `wo` at `wm`, as `d`, `g` and `pdf_wm` give them (the same bits), with D(wm) and Smith's
+    /// term for `wo` computed once for all three: a rough BSDF's eval and pdf at one pair of
+    /// directions (next-event estimation, a sample's weight) need all three.
+    pub fn d_g_pdf_wm(&self, wo: Vec3, wi: Vec3, wm: Vec3, masking: Masking) -> (f32, f32, f32) {
+        match self {
+            Microfacet::TrowbridgeReitz(d) => {
+                let dm = d.d(wm);
+                let lambda_o = d.lambda(wo);
+                let g1_o = 1.0 / (1.0 + lambda_o);
+                let g = match masking {
+                    Masking::HeightCorrelated => 1.0 / (1.0 + lambda_o + d.lambda(wi)),
+                    Masking::Separable => g1_o * d.g1(wi),
+                };
+                // `TrowbridgeReitz::d_visible` with G1(wo) and D(wm) known.
+                let pdf_wm = if wo.z <= 0.0 {
+                    0.0
+                } else {
+                    g1_o * wo.dot(wm).max(0.0) * dm / wo.z
+                };
+                (dm, g, pdf_wm)
+            }
+            Microfacet::Beckmann(d) => {
+                let dm = d.d(wm);
+                let g1_o = d.g1(wo);
+                let g = match masking {
+                    // Beckmann's Lambda is 1 / G1 - 1.
+                    Masking::HeightCorrelated => 1.0 / (1.0 + (1.0 / g1_o - 1.0) + d.lambda(wi)),
+                    Masking::Separable => g1_o * d.g1(wi),
+                };
+                // `Beckmann::pdf_wm` with D(wm) known.
+                (dm, g, dm * wm.z.max(0.0))
+            }
+        }
+    }
+
     /// A normal for viewing direction `w` (w.z > 0): GGX draws the normals visible from `w`,
     /// Beckmann the whole distribution (see `beckmann.rs`).
     pub fn sample_wm(&self, w: Vec3, u: Vec2) -> Vec3 {
@@ -102,6 +138,47 @@ impl Microfacet {
         match self {
             Microfacet::TrowbridgeReitz(d) => d.d_visible(w, wm),
             Microfacet::Beckmann(d) => d.pdf_wm(wm),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::warp::uniform_sphere;
+
+    /// The shared terms are the separate ones to the bit, for both distributions, both forms of
+    /// G, anisotropic roughness and directions on both sides (wm from the half vector).
+    #[test]
+    fn shared_terms_match_separate_ones_to_the_bit() {
+        let grid = |k: u32, n: u32| (k as f32 + 0.5) / n as f32;
+        let directions: Vec<Vec3> = (0..12)
+            .flat_map(|i| (0..12).map(move |j| uniform_sphere(Vec2::new(grid(i, 12), grid(j, 12)))))
+            .collect();
+        for kind in [
+            DistributionKind::TrowbridgeReitz,
+            DistributionKind::Beckmann,
+        ] {
+            for (ax, ay) in [(0.08, 0.08), (0.3, 0.05), (0.9, 0.6)] {
+                let distribution = Microfacet::new(kind, ax, ay);
+                for masking in [Masking::HeightCorrelated, Masking::Separable] {
+                    for &wo in &directions {
+                        for &wi in &directions {
+                            let wm = (wo + wi).normalize_or(Vec3::Z);
+                            let shared = distribution.d_g_pdf_wm(wo, wi, wm, masking);
+                            let separate = (
+                                distribution.d(wm),
+                                distribution.g(wo, wi, masking),
+                                distribution.pdf_wm(wo, wm),
+                            );
+                            let bits = |(a, b, c): (f32, f32, f32)| {
+                                [a.to_bits(), b.to_bits(), c.to_bits()]
+                            };
+                            assert_eq!(bits(shared), bits(separate), "{kind:?} {masking:?}");
+                        }
+                    }
+                }
+            }
         }
     }
 }

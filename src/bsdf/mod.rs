@@ -225,7 +225,24 @@ impl Bsdf {
                 density_or_zero(lambertian.pdf(wo, wi)),
             );
         }
-        (self.eval_unit(wo, wi), self.pdf_unit(wo, wi))
+        self.eval_and_pdf_unit(wo, wi)
+    }
+
+    /// [`Bsdf::eval_and_pdf`] for unit directions, behind one call: a microfacet conductor's
+    /// terms shared between its value and its density ([`RoughConductor::eval_and_pdf`]), the
+    /// rest as `eval_unit` and `pdf_unit` give them.
+    #[inline(never)]
+    fn eval_and_pdf_unit(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        let (f, pdf) = match *self {
+            Bsdf::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y).eval_and_pdf(wo, wi),
+            Bsdf::RoughConductor(c) => c.eval_and_pdf(wo, wi),
+            _ => return (self.eval_unit(wo, wi), self.pdf_unit(wo, wi)),
+        };
+        (finite_or_zero(f), density_or_zero(pdf))
     }
 
     /// `eval` for unit directions.

@@ -79,6 +79,10 @@ pub struct SphereShape {
     /// every hit).
     pub normal_to_world: Mat3A,
     pub radius: f32,
+    /// Whether a hit's uv is read: the scene samples textures and the sphere's material varies
+    /// over its surface (a material of constant inputs never reads it: `Scene::bsdf_at`), so a
+    /// glass or metal sphere in a textured scene skips the atan2 and acos.
+    pub uv: bool,
 }
 
 /// What the world builder asks of the flattening.
@@ -157,6 +161,7 @@ pub fn build_scene_geometry(
             world_to_object,
             normal_to_world: world_to_object.matrix3.transpose(),
             radius: sphere.radius,
+            uv: needs.uvs && materials.fixed_bsdf(surface.0).is_none(),
         });
     }
     let mut plane_shapes = Vec::new();

@@ -77,7 +77,7 @@ impl SceneGeometry {
         let local = sphere.world_to_object.transform_point3(position);
         // Normals transform by the inverse transpose.
         let n = sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z);
-        if !self.uvs {
+        if !sphere.uv {
             return (n, n, Vec2::ZERO);
         }
         let dir = local.normalize_or(Vec3::Z);
