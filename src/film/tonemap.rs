@@ -368,6 +368,39 @@ mod tests {
         assert!((c[0].y / c[0].x - 2.0).abs() < 1e-5 && (c[0].z / c[0].x - 4.0).abs() < 1e-5);
     }
 
+    /// LuxRender 0.x's Reinhard by hand. Two lit pixels (Y = 1 and 3) and two black ones: the
+    /// adaptation luminance counts the black ones, Y_wa = (1 + 3) / 4 = 1. With prescale 1,
+    /// postscale 1.2 and burn 6 the white is Y_w = 0.1 x 6 = 0.6, and Y maps to
+    /// Y x 0.12 x (1 + Y / 0.36) / (1 + Y): 1 -> 0.12 x (1 + 1 / 0.36) / 2 = 0.226667 and
+    /// 3 -> 3 x 0.12 x (1 + 3 / 0.36) / 4 = 0.84.
+    #[test]
+    fn absolute_reinhard_by_hand() {
+        let op = ToneMapOp::ReinhardAbsolute {
+            prescale: 1.0,
+            postscale: 1.2,
+            burn: 6.0,
+        };
+        let mut p = vec![grey(1.0), grey(3.0), Vec3::ZERO, Vec3::ZERO];
+        op.apply(&mut p, 2.2);
+        assert!((p[0].x - 0.226_667).abs() < 1e-5, "{p:?}");
+        assert!((p[1].x - 0.84).abs() < 1e-5, "{p:?}");
+        assert_eq!(p[2], Vec3::ZERO);
+        // Not scale invariant, unlike 1.x's: the same image at twice the luminance gives
+        // Y = 2 -> 2 x 0.06 x (1 + 2 / 0.36) / 3 = 0.262222, not 0.226667.
+        let mut doubled = vec![grey(2.0), grey(6.0), Vec3::ZERO, Vec3::ZERO];
+        op.apply(&mut doubled, 2.2);
+        assert!((doubled[0].x - 0.262_222).abs() < 1e-5, "{doubled:?}");
+        // burn 0 (no white): LuxRender's 1e5 for 1 / Y_w^2.
+        let mut p = vec![grey(1.0), grey(3.0), Vec3::ZERO, Vec3::ZERO];
+        ToneMapOp::ReinhardAbsolute {
+            prescale: 1.0,
+            postscale: 1.0,
+            burn: 0.0,
+        }
+        .apply(&mut p, 2.2);
+        assert!((p[0].x - 0.1 * (1.0 + 1e5) / 2.0).abs() < 1.0, "{p:?}");
+    }
+
     #[test]
     fn linear_contrast_and_maxwhite() {
         // LuxRender's linear defaults: 1/1000 s at f/2.8, ISO 100.
@@ -398,6 +431,11 @@ mod tests {
         for op in [
             ToneMapOp::AutoLinear,
             ToneMapOp::Reinhard {
+                prescale: 1.0,
+                postscale: 1.2,
+                burn: 6.0,
+            },
+            ToneMapOp::ReinhardAbsolute {
                 prescale: 1.0,
                 postscale: 1.2,
                 burn: 6.0,
