@@ -107,29 +107,28 @@ mod tests {
     #[test]
     fn reads_the_exporters_comments() {
         let v = |major, minor| Some(LuxVersion { major, minor });
-        assert_eq!(
-            LuxVersion::from_header("# Lux Render v0.6RC6 Scene File\n# Exported by LuxBlend\n"),
-            v(0, 6)
-        );
-        assert_eq!(
-            LuxVersion::from_header("\n# LuxRender v0.8 Scene File\nLookAt 0 0 0 0 0 1 0 1 0"),
-            v(0, 8)
-        );
-        assert_eq!(
-            LuxVersion::from_header("# LuxRender v1.6 Scene File"),
-            v(1, 6)
-        );
-        assert_eq!(
-            LuxVersion::from_header("# Lux Render v0.1 Scene File"),
-            v(0, 1)
-        );
-        // No comment, a comment naming no version, or one after the first directive.
-        assert_eq!(LuxVersion::from_header("LookAt 0 0 0 0 0 1 0 1 0"), None);
-        assert_eq!(LuxVersion::from_header("#Translate 0 0 35\nLookAt"), None);
-        assert_eq!(
-            LuxVersion::from_header("LookAt 0 0 0 0 0 1 0 1 0\n# LuxRender v0.8 Scene File"),
-            None
-        );
+        // The shared scenes' and LuxBlend's comments; then no comment, a comment naming no
+        // version, and a version comment after the first directive.
+        for (text, expected) in [
+            (
+                "# Lux Render v0.6RC6 Scene File\n# Exported by LuxBlend\n",
+                v(0, 6),
+            ),
+            (
+                "\n# LuxRender v0.8 Scene File\nLookAt 0 0 0 0 0 1 0 1 0",
+                v(0, 8),
+            ),
+            ("# LuxRender v1.6 Scene File", v(1, 6)),
+            ("# Lux Render v0.1 Scene File", v(0, 1)),
+            ("LookAt 0 0 0 0 0 1 0 1 0", None),
+            ("#Translate 0 0 35\nLookAt", None),
+            (
+                "LookAt 0 0 0 0 0 1 0 1 0\n# LuxRender v0.8 Scene File",
+                None,
+            ),
+        ] {
+            assert_eq!(LuxVersion::from_header(text), expected, "{text}");
+        }
         assert_eq!(LuxVersion::parse("1.6.1"), v(1, 6));
         assert_eq!(LuxVersion::parse("0.9dev"), v(0, 9));
         assert_eq!(LuxVersion::parse("six"), None);
