@@ -156,11 +156,11 @@ fn assert_matches(agreement: &Agreement) {
     );
 }
 
-/// bidir-simple: LuxRender's bidirectional render (Metropolis, 1024 spp, Reinhard) of a matte
-/// room lit by a textured area light; foton path traces it.
-/// Measured (128x96, 64 spp): correlation 0.881 (mirrored -0.102), brightness 3.34x LuxRender's.
+/// bidir-simple: LuxRender's bidirectional render (Metropolis, 1024 spp) of a matte room lit by
+/// a blackbody area light normalised by `power` and `efficacy`; foton path traces it. The file
+/// was exported for LuxRender 0.6, so its Reinhard is LuxRender 0.x's, on absolute luminance
+/// (`lxs::version`); LuxRender 1.x's gives correlation 0.88 and 3.3x the brightness.
 #[test]
-#[ignore = "fails: correlation 0.881, brightness 3.34x LuxRender's (area light `texture L` scale not yet explained)"]
 fn bidir_simple_looks_like_luxrenders_render() {
     if let Some(agreement) = compare_with_luxrender(
         "bidir-simple/default.lxs",
@@ -174,10 +174,10 @@ fn bidir_simple_looks_like_luxrenders_render() {
 }
 
 /// bumpmapping: direct lighting (foton's ray caster) of bump-mapped matte surfaces under a
-/// point light.
-/// Measured (160x120, 16 spp): correlation 0.998 (mirrored 0.321), brightness 0.25x LuxRender's.
+/// blackbody point light given by `gain` alone. Exported for LuxRender 0.6: LuxRender 0.x's
+/// Reinhard on the film's photometric luminance (`lxs::version`); LuxRender 1.x's reading gives
+/// 0.25x the brightness.
 #[test]
-#[ignore = "fails: brightness 0.25x LuxRender's (point light `texture L` scale, and bump mapping is on branch luxmat)"]
 fn bumpmapping_looks_like_luxrenders_render() {
     if let Some(agreement) = compare_with_luxrender(
         "bumpmapping/default.lxs",

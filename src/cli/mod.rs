@@ -149,7 +149,8 @@ struct CompareArgs {
 pub struct SceneArgs {
     /// The scene file; its extension picks the loader (.lxs, .xml).
     pub scene: PathBuf,
-    /// A scene parameter, `-D name=value` (Mitsuba's `$name`; repeatable).
+    /// A scene parameter, `-D name=value` (Mitsuba's `$name`; for LuxRender scenes
+    /// `lux_version`, e.g. 1.6, the release to read them as; repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
     pub define: Vec<(String, String)>,
     /// Samples per pixel (the original's -s / -aa).

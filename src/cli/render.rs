@@ -29,10 +29,8 @@ fn load(args: &SceneArgs) -> Result<(SceneDesc, usize), Failure> {
     for warning in &desc.warnings {
         eprintln!("{warning}");
     }
-    if args.verbose {
-        for note in &desc.notes {
-            eprintln!("{}: note: {note}", args.scene.display());
-        }
+    for note in &desc.notes {
+        eprintln!("{}: note: {note}", args.scene.display());
     }
     let mut warnings = desc.warnings.len();
     let has_area_lights = desc.shapes.iter().any(|s| s.area_light.is_some());

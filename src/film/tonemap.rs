@@ -19,6 +19,13 @@ pub enum ToneMap {
         postscale: f32,
         burn: f32,
     },
+    /// LuxRender 0.x's `reinhard`: the curve on absolute luminance (see
+    /// [`ToneMapOp::ReinhardAbsolute`]).
+    ReinhardAbsolute {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
     /// LuxRender's `contrast`: Ward 1994, `ywa` the display adaptation luminance.
     Contrast { ywa: f32 },
     /// LuxRender's `maxwhite`: the brightest pixel to white.
@@ -37,7 +44,10 @@ pub fn exposure_scale(tonemap: ToneMap, pixels: &[Vec3], gamma: f32) -> f32 {
         ToneMap::Linear { scale } => scale,
         ToneMap::AutoLinear => autolinear_scale(pixels, gamma),
         // Applied per pixel by [`apply_display_tone_map`].
-        ToneMap::Reinhard { .. } | ToneMap::Contrast { .. } | ToneMap::MaxWhite => 1.0,
+        ToneMap::Reinhard { .. }
+        | ToneMap::ReinhardAbsolute { .. }
+        | ToneMap::Contrast { .. }
+        | ToneMap::MaxWhite => 1.0,
     }
 }
 
@@ -50,6 +60,15 @@ pub fn apply_display_tone_map(tonemap: ToneMap, pixels: &mut [Vec3], gamma: f32)
             postscale,
             burn,
         } => ToneMapOp::Reinhard {
+            prescale,
+            postscale,
+            burn,
+        },
+        ToneMap::ReinhardAbsolute {
+            prescale,
+            postscale,
+            burn,
+        } => ToneMapOp::ReinhardAbsolute {
             prescale,
             postscale,
             burn,
@@ -111,11 +130,44 @@ pub enum ToneMapOp {
         postscale: f32,
         burn: f32,
     },
+    /// `reinhard` of LuxRender 0.x, with the same parameters.
+    ReinhardAbsolute {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
     /// `contrast`: `contrast_ywa` (50), the display adaptation luminance.
     Contrast { ywa: f32 },
     /// `maxwhite`: the brightest pixel to white.
     MaxWhite,
 }
+
+/// The reciprocal of the squared white luminance of Reinhard's curve; LuxRender's 1e5 when the
+/// white is not positive (the curve is then L / (1 + L) for any L that matters).
+fn inverse_white_squared(white: f32) -> f32 {
+    if white > 0.0 {
+        1.0 / (white * white)
+    } else {
+        1e5
+    }
+}
+
+/// LuxRender 0.x's world adaptation luminance: the sum of the positive pixel luminances over
+/// the number of *all* pixels (an arithmetic mean with unlit pixels counted as 0); 1 when none
+/// is lit.
+fn mean_luminance(pixels: &[Vec3]) -> f32 {
+    let sum: f64 = pixels
+        .iter()
+        .map(|&p| luminance(p))
+        .filter(|y| *y > 0.0 && y.is_finite())
+        .map(f64::from)
+        .sum();
+    let mean = (sum / pixels.len().max(1) as f64) as f32;
+    if mean > 0.0 { mean } else { 1.0 }
+}
+
+/// Reinhard et al.'s key value a, the mid grey a scene's adaptation luminance maps to.
+const REINHARD_KEY: f32 = 0.1;
 
 /// The log-average luminance (the geometric mean) of the pixels with positive luminance, as
 /// LuxRender's `reinhard` and `contrast` compute it; 1 when none is lit.
@@ -167,14 +219,32 @@ impl ToneMapOp {
                 postscale,
                 burn,
             } => {
-                const KEY: f32 = 0.1;
-                let scale = KEY / log_average_luminance(pixels);
-                let inv_burn2 = if burn > 0.0 { 1.0 / (burn * burn) } else { 1e5 };
+                let scale = REINHARD_KEY / log_average_luminance(pixels);
+                let inv_burn2 = inverse_white_squared(burn);
                 let pre = scale / prescale;
                 let post = scale * postscale;
                 for p in pixels.iter_mut() {
                     let ys = luminance(*p) * pre;
                     *p *= post * (1.0 + ys * inv_burn2) / (1.0 + ys);
+                }
+            }
+            // `tonemaps/reinhard.cpp` of LuxRender 0.x (the `vector<XYZColor>` versions before
+            // the `luxrays` colour classes): the same eq. 4, but with the world adaptation Y_wa
+            // the arithmetic mean ([`mean_luminance`]) and the curve applied to the absolute
+            // luminance Y, its white at Y_w = prescale x 0.1 x burn:
+            //   Y' = Y x postscale x prescale x 0.1 / Y_wa x (1 + Y / Y_w^2) / (1 + Y).
+            // Below Y ~ 1 it is linear in Y / Y_wa; above, the curve compresses, so the image
+            // depends on its absolute scale (LuxRender's film units: `lxs::version`).
+            ToneMapOp::ReinhardAbsolute {
+                prescale,
+                postscale,
+                burn,
+            } => {
+                let inv_white2 = inverse_white_squared(prescale * REINHARD_KEY * burn);
+                let scale = postscale * prescale * REINHARD_KEY / mean_luminance(pixels);
+                for p in pixels.iter_mut() {
+                    let y = luminance(*p);
+                    *p *= scale * (1.0 + y * inv_white2) / (1.0 + y);
                 }
             }
             // `tonemaps/contrast.cpp` (Ward 1994, "A Contrast-Based Scalefactor for Luminance
@@ -298,6 +368,39 @@ mod tests {
         assert!((c[0].y / c[0].x - 2.0).abs() < 1e-5 && (c[0].z / c[0].x - 4.0).abs() < 1e-5);
     }
 
+    /// LuxRender 0.x's Reinhard by hand. Two lit pixels (Y = 1 and 3) and two black ones: the
+    /// adaptation luminance counts the black ones, Y_wa = (1 + 3) / 4 = 1. With prescale 1,
+    /// postscale 1.2 and burn 6 the white is Y_w = 0.1 x 6 = 0.6, and Y maps to
+    /// Y x 0.12 x (1 + Y / 0.36) / (1 + Y): 1 -> 0.12 x (1 + 1 / 0.36) / 2 = 0.226667 and
+    /// 3 -> 3 x 0.12 x (1 + 3 / 0.36) / 4 = 0.84.
+    #[test]
+    fn absolute_reinhard_by_hand() {
+        let op = ToneMapOp::ReinhardAbsolute {
+            prescale: 1.0,
+            postscale: 1.2,
+            burn: 6.0,
+        };
+        let mut p = vec![grey(1.0), grey(3.0), Vec3::ZERO, Vec3::ZERO];
+        op.apply(&mut p, 2.2);
+        assert!((p[0].x - 0.226_667).abs() < 1e-5, "{p:?}");
+        assert!((p[1].x - 0.84).abs() < 1e-5, "{p:?}");
+        assert_eq!(p[2], Vec3::ZERO);
+        // Not scale invariant, unlike 1.x's: the same image at twice the luminance gives
+        // Y = 2 -> 2 x 0.06 x (1 + 2 / 0.36) / 3 = 0.262222, not 0.226667.
+        let mut doubled = vec![grey(2.0), grey(6.0), Vec3::ZERO, Vec3::ZERO];
+        op.apply(&mut doubled, 2.2);
+        assert!((doubled[0].x - 0.262_222).abs() < 1e-5, "{doubled:?}");
+        // burn 0 (no white): LuxRender's 1e5 for 1 / Y_w^2.
+        let mut p = vec![grey(1.0), grey(3.0), Vec3::ZERO, Vec3::ZERO];
+        ToneMapOp::ReinhardAbsolute {
+            prescale: 1.0,
+            postscale: 1.0,
+            burn: 0.0,
+        }
+        .apply(&mut p, 2.2);
+        assert!((p[0].x - 0.1 * (1.0 + 1e5) / 2.0).abs() < 1.0, "{p:?}");
+    }
+
     #[test]
     fn linear_contrast_and_maxwhite() {
         // LuxRender's linear defaults: 1/1000 s at f/2.8, ISO 100.
@@ -328,6 +431,11 @@ mod tests {
         for op in [
             ToneMapOp::AutoLinear,
             ToneMapOp::Reinhard {
+                prescale: 1.0,
+                postscale: 1.2,
+                burn: 6.0,
+            },
+            ToneMapOp::ReinhardAbsolute {
                 prescale: 1.0,
                 postscale: 1.2,
                 burn: 6.0,

@@ -593,6 +593,15 @@ pub fn tone_map(desc: ToneMap) -> film::ToneMap {
             postscale,
             burn,
         },
+        ToneMap::ReinhardAbsolute {
+            prescale,
+            postscale,
+            burn,
+        } => film::ToneMap::ReinhardAbsolute {
+            prescale,
+            postscale,
+            burn,
+        },
         ToneMap::Contrast { ywa } => film::ToneMap::Contrast { ywa },
         ToneMap::MaxWhite => film::ToneMap::MaxWhite,
     }

@@ -105,7 +105,7 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     /// Warnings met while loading, in file order.
     pub warnings: Vec<SceneWarning>,
-    /// What the loader adapted within the format (printed by `--verbose`).
+    /// What the loader adapted within the format (printed with the warnings, as notes).
     pub notes: Vec<String>,
 }
 
@@ -191,6 +191,12 @@ pub enum ToneMap {
     Linear { scale: f32 },
     /// LuxRender's `reinhard`: Reinhard et al. 2002's global operator.
     Reinhard {
+        prescale: f32,
+        postscale: f32,
+        burn: f32,
+    },
+    /// LuxRender 0.x's `reinhard`: the curve on absolute luminance (`film::ToneMapOp`).
+    ReinhardAbsolute {
         prescale: f32,
         postscale: f32,
         burn: f32,

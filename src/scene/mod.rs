@@ -17,28 +17,12 @@ pub type Loader = fn(&Path, &[(String, String)]) -> Result<SceneDesc, SceneError
 
 /// Every scene format: the file extensions it takes (lower case, without the dot) and its
 /// loader. One line per format.
-pub const LOADERS: &[(&[&str], Loader)] = &[
-    (&["lxs"], load_without_parameters),
-    (&["xml"], mitsuba::load_with),
-];
+pub const LOADERS: &[(&[&str], Loader)] =
+    &[(&["lxs"], lxs::load_with), (&["xml"], mitsuba::load_with)];
 
 /// Loads the scene at `path` with the loader its extension names (in any case).
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
     load_with(path, &[])
-}
-
-/// A LuxRender scene, which has no parameters: each `-D` is a warning.
-fn load_without_parameters(
-    path: &Path,
-    defines: &[(String, String)],
-) -> Result<SceneDesc, SceneError> {
-    let mut desc = lxs::load(path)?;
-    desc.warnings
-        .extend(defines.iter().map(|(name, value)| desc::SceneWarning {
-            location: Location::line(path, 0),
-            message: format!("-D {name}={value}: this format has no scene parameters, ignored"),
-        }));
-    Ok(desc)
 }
 
 /// [`load`] with `-D name=value` scene parameters (Mitsuba's `$name`).

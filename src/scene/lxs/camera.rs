@@ -102,12 +102,26 @@ impl Parser {
                     * (118.0f32 / 255.0).powf(display_gamma);
                 ToneMap::Linear { scale }
             }
-            // `tonemaps/reinhard.cpp`, `contrast.cpp`, `maxwhite.cpp`.
-            Some("reinhard") => ToneMap::Reinhard {
-                prescale: params.float("reinhard_prescale")?.unwrap_or(1.0),
-                postscale: params.float("reinhard_postscale")?.unwrap_or(1.0),
-                burn: params.float("reinhard_burn")?.unwrap_or(7.0),
-            },
+            // `tonemaps/reinhard.cpp`, `contrast.cpp`, `maxwhite.cpp`; LuxRender 0.x's Reinhard
+            // for scenes read as that release (`version.rs`).
+            Some("reinhard") => {
+                let prescale = params.float("reinhard_prescale")?.unwrap_or(1.0);
+                let postscale = params.float("reinhard_postscale")?.unwrap_or(1.0);
+                let burn = params.float("reinhard_burn")?.unwrap_or(7.0);
+                if self.version.has_absolute_reinhard() {
+                    ToneMap::ReinhardAbsolute {
+                        prescale,
+                        postscale,
+                        burn,
+                    }
+                } else {
+                    ToneMap::Reinhard {
+                        prescale,
+                        postscale,
+                        burn,
+                    }
+                }
+            }
             Some("contrast") => ToneMap::Contrast {
                 ywa: params.float("contrast_ywa")?.unwrap_or(50.0),
             },

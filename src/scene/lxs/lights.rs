@@ -22,6 +22,8 @@ pub(super) struct AreaLight {
     gain: f32,
     power: f32,
     efficacy: f32,
+    /// The parser's `film_units`, for when `power` does not apply.
+    film_units: f32,
 }
 
 impl AreaLight {
@@ -32,20 +34,23 @@ impl AreaLight {
     pub(super) fn radiance(&self, shape: &ShapeDesc) -> AreaLightDesc {
         let flux_per_gain = PI * shape.surface_area() * luminance(self.l);
         AreaLightDesc {
-            radiance: self.l * (self.gain * power_factor(self.power, self.efficacy, flux_per_gain)),
+            radiance: self.l
+                * (self.gain
+                    * power_factor(self.power, self.efficacy, flux_per_gain, self.film_units)),
         }
     }
 }
 
 /// LuxRender's gain factor from `power` and `efficacy`: the luminous flux asked for over the
-/// flux the light emits at gain 1; 1 (no scaling) when that is not positive and finite, as
-/// when either is 0 (what LuxBlend writes when no power is set).
-fn power_factor(power: f32, efficacy: f32, flux_per_gain: f32) -> f32 {
+/// flux the light emits at gain 1. When that is not positive and finite, as when either is 0
+/// (what LuxBlend writes when no power is set), the gain stands alone: `film_units` (1, or
+/// LuxRender 0.x's film units, `version.rs`).
+fn power_factor(power: f32, efficacy: f32, flux_per_gain: f32, film_units: f32) -> f32 {
     let factor = power * efficacy / flux_per_gain;
     if factor > 0.0 && factor.is_finite() {
         factor
     } else {
-        1.0
+        film_units
     }
 }
 
@@ -59,7 +64,8 @@ impl Parser {
         let ctm = self.state.ctm;
         let l = self.light_color(params, line)?;
         let gain = params.float("gain")?.unwrap_or(1.0);
-        let scale = l * gain;
+        let film_units = self.film_units;
+        let scale = l * gain * film_units;
         let from = params.vec3("from")?.unwrap_or(Vec3::ZERO);
         let to = params.vec3("to")?.unwrap_or(Vec3::Z);
         let direction = |from: Vec3, to: Vec3| {
@@ -80,7 +86,8 @@ impl Parser {
             // `lights/pointlight.cpp`).
             "point" => LightDesc::Point {
                 position: ctm.transform_point3(from),
-                intensity: l * (gain * power_factor(power, efficacy, 4.0 * PI * luminance(l))),
+                intensity: l
+                    * (gain * power_factor(power, efficacy, 4.0 * PI * luminance(l), film_units)),
             },
             "spot" => {
                 let cone_angle = params.float("coneangle")?.unwrap_or(30.0);
@@ -97,7 +104,8 @@ impl Parser {
                 LightDesc::Spot {
                     position: ctm.transform_point3(from),
                     direction: direction(from, to)?,
-                    intensity: l * (gain * power_factor(power, efficacy, flux_per_gain)),
+                    intensity: l
+                        * (gain * power_factor(power, efficacy, flux_per_gain, film_units)),
                     cone_angle,
                     cone_delta_angle,
                     falloff: SpotFalloff::SmoothCosine,
@@ -242,6 +250,7 @@ impl Parser {
             // 17 lm/W, so an area light without `power` is normalised to 1700 lm too.
             power: params.float("power")?.unwrap_or(100.0),
             efficacy: params.float("efficacy")?.unwrap_or(17.0),
+            film_units: self.film_units,
         });
         Ok(())
     }

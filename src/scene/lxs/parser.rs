@@ -11,6 +11,7 @@ use super::objects::{InstanceCounts, Object, OpenObject};
 use super::params::ParamList;
 use super::paths::{Resolved, resolve};
 use super::tokenizer::{Token, TokenKind, tokenize};
+use super::version::{self, LuxVersion};
 use super::volumes::Volumes;
 use crate::scene::desc::{
     ColorParam, Location, MaterialDesc, MaterialId, SceneDesc, SceneError, SceneWarning,
@@ -123,12 +124,19 @@ pub(super) struct Parser {
     pub instance_counts: InstanceCounts,
     /// Named volumes and the `glass2` materials that read them.
     pub volumes: Volumes,
+    /// The LuxRender release the scene is read as: `-D lux_version`, else the main file's
+    /// version comment, else 1.x final (`version.rs`).
+    version_override: Option<LuxVersion>,
+    pub version: LuxVersion,
+    /// What a light given by `gain` alone is multiplied by: 1, or for releases before 1.0
+    /// LuxRender's film units ([`version::photometric_scale`]).
+    pub film_units: f32,
     /// What has been read so far.
     pub scene: SceneDesc,
 }
 
 impl Parser {
-    fn new(path: &Path) -> Self {
+    fn new(path: &Path, version_override: Option<LuxVersion>) -> Self {
         Self {
             state: GraphicsState::default(),
             stack: Vec::new(),
@@ -144,7 +152,31 @@ impl Parser {
             objects: HashMap::new(),
             instance_counts: InstanceCounts::default(),
             volumes: Volumes::default(),
+            version_override,
+            version: version::FINAL,
+            film_units: 1.0,
             scene: SceneDesc::empty(Location::line(path, 0)),
+        }
+    }
+
+    /// Sets the release the scene is read as, from the main file's `text`, with one note when
+    /// it is read as LuxRender 0.x.
+    fn read_version(&mut self, text: &str) {
+        let (version, source) = match (self.version_override, LuxVersion::from_header(text)) {
+            (Some(version), _) => (version, format!("-D {}", version::OVERRIDE_PARAMETER)),
+            (None, Some(version)) => (version, "its version comment".to_string()),
+            (None, None) => return,
+        };
+        self.version = version;
+        if version.has_absolute_reinhard() {
+            self.film_units = version::photometric_scale();
+            self.scene.notes.push(format!(
+                "read as LuxRender {version} ({source}): LuxRender 0.x's Reinhard tone map on \
+                 absolute luminance, and lights given by gain alone in its film units (x {:.0}); \
+                 -D {}=1.6 for LuxRender 1.x's",
+                self.film_units,
+                version::OVERRIDE_PARAMETER
+            ));
         }
     }
 
@@ -196,6 +228,9 @@ impl Parser {
             location: Location::line(path, 0),
             message: format!("cannot read: {e}"),
         })?;
+        if self.include_chain.is_empty() {
+            self.read_version(&text);
+        }
         let outer_file = std::mem::replace(&mut self.file, path.to_path_buf());
         let outer_dir = std::mem::replace(
             &mut self.dir,
@@ -650,9 +685,13 @@ impl Parser {
     }
 }
 
-/// Reads the scene file at `path` and the files it includes.
-pub(super) fn parse(path: &Path) -> Result<SceneDesc, SceneError> {
-    let mut parser = Parser::new(path);
+/// Reads the scene file at `path` and the files it includes, as LuxRender `version_override`
+/// if given.
+pub(super) fn parse(
+    path: &Path,
+    version_override: Option<LuxVersion>,
+) -> Result<SceneDesc, SceneError> {
+    let mut parser = Parser::new(path, version_override);
     parser.read_file(path)?;
     parser.finish()
 }
