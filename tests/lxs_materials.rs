@@ -288,20 +288,22 @@ fn sky_light_renders() {
         .lights
         .iter()
         .find_map(|light| match light {
-            LightDesc::Distant {
+            LightDesc::SunDisc {
                 direction_to_light,
                 radiance,
+                sin_theta_max,
             } => {
                 assert!((*direction_to_light - Vec3::Z).length() < 1e-6);
-                Some(*radiance)
+                // The integral of cos over the cone around the normal: pi sin^2 theta_max.
+                Some(*radiance * PI * sin_theta_max * sin_theta_max)
             }
             _ => None,
         })
-        .expect("sunsky has a distant sun");
+        .expect("sunsky has a sun disc");
     // The sun overhead at turbidity 2 has luminance 1.4964e9 cd/m^2 (the module's formulas
     // evaluated independently in Python, as in `scene::lxs::sun`'s tests), over a disc of
-    // 6.7906e-5 sr: 101,610 lux on a surface facing it (the clear-sky direct normal
-    // illuminance, about 1e5 lux), times the gain.
+    // 6.7906e-5 sr (pi sin^2 theta_max is 3e-6 less): 101,610 lux on a surface facing it (the
+    // clear-sky direct normal illuminance, about 1e5 lux), times the gain.
     let illuminance = foton::film::luminance(sun_irradiance) / 0.001;
     assert!(
         (illuminance / 101_610.0 - 1.0).abs() < 0.01,
@@ -322,9 +324,19 @@ fn sky_light_renders() {
     let sun = scene(&light("sun"));
     assert!(sun.warnings.is_empty(), "{:?}", sun.warnings);
     assert!(
-        matches!(sun.lights[..], [LightDesc::Distant { .. }]),
+        matches!(sun.lights[..], [LightDesc::SunDisc { .. }]),
         "{:?}",
         sun.lights
+    );
+    // `relsize` 0: LuxRender's older point-like sun, a delta light of the disc's radiance.
+    let point_like = scene(
+        r#"LightSource "sun" "float gain" [0.001] "vector sundir" [0 0 1] "float relsize" [0]"#,
+    );
+    assert!(
+        matches!(point_like.lights[..], [LightDesc::Distant { radiance, .. }]
+            if (radiance / 0.001 - sun_radiance_of(&sun)).abs().max_element() < 1.0),
+        "{:?}",
+        point_like.lights
     );
     let below = scene(r#"LightSource "sun" "vector sundir" [0 0.2 -1]"#);
     assert!(
@@ -332,6 +344,14 @@ fn sky_light_renders() {
         "{:?}",
         below.lights
     );
+}
+
+/// The radiance of a scene's one sun disc.
+fn sun_radiance_of(scene: &SceneDesc) -> Vec3 {
+    match scene.lights[..] {
+        [LightDesc::SunDisc { radiance, .. }] => radiance / 0.001,
+        _ => panic!("{:?}", scene.lights),
+    }
 }
 
 /// The mean of the pixels and its standard error (the pixels' standard deviation over the

@@ -24,6 +24,7 @@ use crate::light::distant::DistantLight;
 use crate::light::infinite::InfiniteLight;
 use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
+use crate::light::sun_disc::SunDiscLight;
 use crate::material::bump::BumpMap;
 use crate::material::texture::{self, TextureTable};
 use crate::material::{Color, GlossyCoating, Material, MaterialTable, PaintLobe};
@@ -251,6 +252,17 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                     direction_to_light: direction_to_light.normalize_or(Vec3::Z),
                     radiance: *radiance,
                 });
+            }
+            LightDesc::SunDisc {
+                direction_to_light,
+                radiance,
+                sin_theta_max,
+            } => {
+                world.spawn(SunDiscLight::new(
+                    *direction_to_light,
+                    *radiance,
+                    *sin_theta_max,
+                ));
             }
             LightDesc::Infinite {
                 radiance,

@@ -506,6 +506,13 @@ pub enum LightDesc {
         direction_to_light: Vec3,
         radiance: Vec3,
     },
+    /// A distant disc (the sun): `radiance` from every direction within the cone around
+    /// `direction_to_light` (unit, world space) whose half-angle has sine `sin_theta_max`.
+    SunDisc {
+        direction_to_light: Vec3,
+        radiance: Vec3,
+        sin_theta_max: f32,
+    },
     /// Environment light: constant `radiance`, times the lat-long map if given.
     Infinite {
         radiance: Vec3,
