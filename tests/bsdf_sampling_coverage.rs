@@ -22,6 +22,7 @@ use foton::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet
 use foton::bsdf::oren_nayar::oren_nayar_ab;
 use foton::bsdf::plastic::internal_reflectance;
 use foton::bsdf::rough_plastic::CoatingTables;
+use foton::bsdf::thin_film::ThinFilm;
 use foton::bsdf::{
     Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic,
     RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal, SmoothConductor, ThinDielectric,
@@ -157,6 +158,11 @@ fn cases() -> Vec<Bsdf> {
             glossy: Vec3::new(0.6, 0.5, 0.3),
             mirror: Vec3::splat(0.7),
             roughness: 0.05,
+            anisotropy: 0.6,
+            film: Some(ThinFilm {
+                thickness: 300.0,
+                index: 1.4,
+            }),
         }),
         Bsdf::Velvet(Velvet {
             reflectance: Vec3::new(0.3, 0.5, 0.9),

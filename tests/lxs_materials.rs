@@ -363,9 +363,9 @@ fn mean_and_standard_error(image: &[Vec3]) -> (Vec3, Vec3) {
     (mean, (variance / n).map(f32::sqrt))
 }
 
-/// `shinymetal`: Ks and Kr as given, Schlick's r = uroughness x vroughness (LuxRender 1.x's
-/// `SchlickDistribution(u * v, ...)`); a positive `film` (thin-film interference, not
-/// modelled) is one warning.
+/// `shinymetal`: Ks and Kr as given, Schlick's r = uroughness x vroughness and anisotropy
+/// v^2 / u^2 - 1 for u > v (LuxRender 1.x's `SchlickDistribution(u * v, anisotropy)`); a
+/// positive `film` is a thin film of that thickness and `filmindex`, without a warning.
 #[test]
 fn shinymetal_reads_its_parameters() {
     let desc = quad_scene(
@@ -377,6 +377,8 @@ fn shinymetal_reads_its_parameters() {
         glossy: ColorParam::Constant(glossy),
         mirror: ColorParam::Constant(mirror),
         roughness,
+        anisotropy,
+        film: None,
     } = only_material(&desc)
     else {
         panic!("{:?}", desc.materials)
@@ -384,12 +386,25 @@ fn shinymetal_reads_its_parameters() {
     assert_eq!(*glossy, Vec3::new(0.8, 0.6, 0.4));
     assert_eq!(*mirror, Vec3::splat(0.3));
     assert!((roughness - 0.2 * 0.05).abs() < 1e-7, "{roughness}");
+    let expected = 0.05f32.powi(2) / 0.2f32.powi(2) - 1.0;
+    assert!((anisotropy - expected).abs() < 1e-6, "{anisotropy}");
     let film = quad_scene(
         "shinymetal-film",
         r#"Material "shinymetal" "float film" [300] "float filmindex" [1.4]"#,
     );
-    assert_eq!(film.warnings.len(), 1, "{:?}", film.warnings);
-    assert!(film.warnings[0].message.contains("film"));
+    assert!(film.warnings.is_empty(), "{:?}", film.warnings);
+    assert!(
+        matches!(
+            only_material(&film),
+            MaterialDesc::FittedConductor {
+                anisotropy: 0.0,
+                film: Some((300.0, 1.4)),
+                ..
+            }
+        ),
+        "{:?}",
+        film.materials
+    );
 }
 
 /// `velvet` with LuxRender 1.x's defaults (Kd 0.3, p1 -2, p2 20, p3 2, thickness 0.1) and its

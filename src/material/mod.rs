@@ -14,6 +14,7 @@ use crate::bsdf::microfacet::TrowbridgeReitz;
 use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
+use crate::bsdf::thin_film::ThinFilm;
 use crate::bsdf::{
     Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent,
     GlossyTranslucent, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal,
@@ -119,6 +120,8 @@ pub enum Material {
         glossy: Color,
         mirror: Color,
         roughness: f32,
+        anisotropy: f32,
+        film: Option<ThinFilm>,
     },
     /// Asperity scattering: Legendre coefficients of the phase function, optical thickness.
     Velvet {
@@ -526,10 +529,14 @@ impl Inputs<'_> {
                 glossy,
                 mirror,
                 roughness,
+                anisotropy,
+                film,
             } => Bsdf::ShinyMetal(ShinyMetal {
                 glossy: color(glossy),
                 mirror: color(mirror),
                 roughness: *roughness,
+                anisotropy: *anisotropy,
+                film: *film,
             }),
             Material::Velvet {
                 reflectance,

@@ -15,6 +15,7 @@ use crate::bsdf::microfacet::clamp_alpha;
 use crate::bsdf::microfacet_distribution::{DistributionKind, Microfacet};
 use crate::bsdf::plastic::internal_reflectance;
 use crate::bsdf::rough_plastic::CoatingTables;
+use crate::bsdf::thin_film::ThinFilm;
 use crate::camera::fisheye::FisheyeFit;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, CameraSetup, CameraType, default_screen_window};
@@ -516,10 +517,14 @@ fn material(desc: &MaterialDesc) -> Material {
             glossy,
             mirror,
             roughness,
+            anisotropy,
+            film,
         } => Material::FittedConductor {
             glossy: color(glossy),
             mirror: color(mirror),
             roughness: *roughness,
+            anisotropy: *anisotropy,
+            film: film.map(|(thickness, index)| ThinFilm { thickness, index }),
         },
         MaterialDesc::Velvet {
             reflectance,

@@ -338,10 +338,14 @@ pub enum MaterialDesc {
     /// A mirror plus a glossy Schlick microfacet lobe of roughness r = `roughness`, each with a
     /// conductor Fresnel term whose complex index is fitted to a reflectance (`mirror`,
     /// `glossy`; pbrt-v1's `FresnelApproxEta`/`FresnelApproxK`): LuxRender's `shinymetal`.
+    /// `anisotropy` is Schlick's (0 isotropic, positive: wider along the surface's v);
+    /// `film` a thin film's thickness (nm) and index on the mirror.
     FittedConductor {
         glossy: ColorParam,
         mirror: ColorParam,
         roughness: f32,
+        anisotropy: f32,
+        film: Option<(f32, f32)>,
     },
     /// Asperity scattering of a thin layer (Koenderink and Pont 2002): `legendre` the phase
     /// function's coefficients A1..A3, `thickness` the layer's optical thickness.
