@@ -67,6 +67,7 @@ fn paint(kd: Vec3, lobes: [(f32, f32, f32); 3], ka: f32, d: f32) -> Bsdf {
             absorption: Vec3::splat(ka),
             depth: d,
             roughness: 1.0,
+            anisotropy: 0.0,
         },
         lobes: lobes.map(|(ks, f0, roughness)| CarPaintLobe {
             specular: Vec3::splat(ks),
@@ -85,6 +86,7 @@ fn ford_f8() -> Bsdf {
             absorption: Vec3::ZERO,
             depth: 0.0,
             roughness: 1.0,
+            anisotropy: 0.0,
         },
         lobes: [
             (Vec3::new(0.0049, 0.0076, 0.0120), 0.15, 0.32),

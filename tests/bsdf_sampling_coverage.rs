@@ -67,6 +67,7 @@ fn glossy(diffuse: Vec3, specular: Vec3, roughness: f32) -> CoatedGlossy {
         absorption: Vec3::new(0.5, 0.2, 0.0),
         depth: 0.1,
         roughness,
+        anisotropy: 0.0,
     }
 }
 
@@ -173,6 +174,7 @@ fn cases() -> Vec<Bsdf> {
             base: CoatedGlossy {
                 specular: Vec3::ZERO,
                 roughness: 1.0,
+                anisotropy: 0.0,
                 ..glossy(Vec3::new(0.01, 0.02, 0.1), Vec3::ZERO, 1.0)
             },
             lobes: [(0.3, 0.15, 0.32), (0.2, 0.087, 0.11), (0.1, 0.9, 0.013)].map(

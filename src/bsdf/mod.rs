@@ -365,6 +365,10 @@ impl Bsdf {
             Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
             Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
             Bsdf::ShinyMetal(m) => m.is_anisotropic(),
+            Bsdf::CoatedGlossy(c) => c.anisotropy != 0.0,
+            Bsdf::GlossyTranslucent(g) => {
+                g.front.lobe.anisotropy != 0.0 || g.back.lobe.anisotropy != 0.0
+            }
             _ => false,
         }
     }

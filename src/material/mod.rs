@@ -52,6 +52,7 @@ pub enum Material {
         absorption: Color,
         depth: f32,
         roughness: f32,
+        anisotropy: f32,
     },
     SpecularReflection {
         reflectance: Color,
@@ -171,6 +172,7 @@ pub struct GlossyCoating {
     pub absorption: Color,
     pub depth: f32,
     pub roughness: f32,
+    pub anisotropy: f32,
     pub multibounce: bool,
 }
 
@@ -392,12 +394,14 @@ impl Inputs<'_> {
                 absorption,
                 depth,
                 roughness,
+                anisotropy,
             } => Bsdf::CoatedGlossy(CoatedGlossy {
                 diffuse: color(diffuse),
                 specular: color(specular),
                 absorption: color(absorption),
                 depth: *depth,
                 roughness: *roughness,
+                anisotropy: *anisotropy,
             }),
             Material::SpecularReflection { reflectance } => Bsdf::SpecularReflection {
                 reflectance: color(reflectance),
@@ -433,6 +437,7 @@ impl Inputs<'_> {
                         absorption: color(&c.absorption),
                         depth: c.depth,
                         roughness: c.roughness,
+                        anisotropy: c.anisotropy,
                     },
                     multibounce: c.multibounce,
                 };
@@ -559,6 +564,7 @@ impl Inputs<'_> {
                     absorption: color(absorption),
                     depth: *depth,
                     roughness: 1.0,
+                    anisotropy: 0.0,
                 },
                 lobes: lobes.map(|l| CarPaintLobe {
                     specular: color(&l.specular),

@@ -398,12 +398,14 @@ fn material(desc: &MaterialDesc) -> Material {
             absorption,
             depth,
             roughness,
+            anisotropy,
         } => Material::CoatedGlossy {
             diffuse: color(diffuse),
             specular: color(specular),
             absorption: color(absorption),
             depth: *depth,
             roughness: *roughness,
+            anisotropy: *anisotropy,
         },
         MaterialDesc::Mirror { reflectance } => Material::SpecularReflection {
             reflectance: color(reflectance),
@@ -437,6 +439,7 @@ fn material(desc: &MaterialDesc) -> Material {
                 absorption: color(&c.absorption),
                 depth: c.depth,
                 roughness: c.roughness,
+                anisotropy: c.anisotropy,
                 multibounce: c.multibounce,
             };
             Material::GlossyTranslucent {

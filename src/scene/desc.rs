@@ -270,13 +270,15 @@ pub enum MaterialDesc {
     },
     /// A diffuse base under a glossy dielectric coating (Schlick's coated model):
     /// `specular` the coating's reflectance at normal incidence, `absorption` and `depth` its
-    /// absorption coefficient and thickness, `roughness` Schlick's r (GGX alpha^2).
+    /// absorption coefficient and thickness, `roughness` Schlick's r (GGX alpha^2),
+    /// `anisotropy` Schlick's (0 isotropic, positive: wider along the surface's v).
     CoatedDiffuse {
         diffuse: ColorParam,
         specular: ColorParam,
         absorption: ColorParam,
         depth: f32,
         roughness: f32,
+        anisotropy: f32,
     },
     /// A perfect mirror: `reflectance` at every angle, no Fresnel falloff.
     Mirror { reflectance: ColorParam },
@@ -400,6 +402,8 @@ pub struct GlossyCoatingDesc {
     pub absorption: ColorParam,
     pub depth: f32,
     pub roughness: f32,
+    /// Schlick's anisotropy (see [`MaterialDesc::CoatedDiffuse`]).
+    pub anisotropy: f32,
     pub multibounce: bool,
 }
 

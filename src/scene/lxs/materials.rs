@@ -106,7 +106,7 @@ impl Parser {
             }
             // `materials/glossy2.cpp`: Kd 1, Ks 1 (times ((n - 1) / (n + 1))^2 when `index` > 0),
             // Ka 0, d 0, uroughness = vroughness = 0.1 clamped to [1e-4, 1], Schlick's
-            // r = u v. foton's coating is isotropic.
+            // r = u v and anisotropy of the clamped u and v.
             "glossy" => {
                 let diffuse = self.color_param(params, "Kd", Vec3::ONE, line)?;
                 let index = self.constant_float(params, "index", 0.0, line)?;
@@ -126,6 +126,7 @@ impl Parser {
                     absorption,
                     depth,
                     roughness: clamp(u) * clamp(v),
+                    anisotropy: schlick_anisotropy(clamp(u), clamp(v)),
                 }
             }
             "mirror" => MaterialDesc::Mirror {
