@@ -534,13 +534,26 @@ fn glossytranslucent_reads_both_coatings() {
     assert_eq!((constant(kd), constant(kt)), (Vec3::ONE, Vec3::ONE));
     assert_eq!(constant(front.specular), Vec3::ONE);
     assert!((front.roughness - 0.01).abs() < 1e-7);
-    assert!(!front.multibounce);
+    assert!(!front.multibounce && front.anisotropy == 0.0);
     assert_eq!(front, back);
     let (_, _, front, back) = read(
         "gt_two_sided",
         "\"float index\" [1.5] \"bool multibounce\" [\"true\"] \"float d\" [0.3] \
          \"bool onesided\" [\"false\"] \"color backface_Ks\" [0.5 0.5 0.5] \
-         \"float backface_uroughness\" [0.5]",
+         \"float backface_uroughness\" [0.5] \"float uroughness\" [0.1] \"float vroughness\" [0.3]",
+    );
+    // Schlick's anisotropy of the clamped u and v: 1 - u^2 / v^2 for u < v, v^2 / u^2 - 1 else
+    // (the back's v is its default 0, clamped to 6e-3).
+    assert!(
+        (front.anisotropy - (1.0 - 1.0 / 9.0)).abs() < 1e-6,
+        "{}",
+        front.anisotropy
+    );
+    let back_anisotropy = (6e-3f32 / 0.5).powi(2) - 1.0;
+    assert!(
+        (back.anisotropy - back_anisotropy).abs() < 1e-6,
+        "{}",
+        back.anisotropy
     );
     assert!((constant(front.specular).x - 0.04).abs() < 1e-6);
     assert!(front.multibounce && front.depth == 0.3);
@@ -551,6 +564,31 @@ fn glossytranslucent_reads_both_coatings() {
         back.roughness
     );
     assert!(!back.multibounce && back.depth == 0.0);
+}
+
+/// `glossy`: Schlick's r = u v and anisotropy from `uroughness` u and `vroughness` v (each
+/// clamped to [1e-4, 1]), 0 for u = v (LuxRender 1.x's `glossy2.cpp`).
+#[test]
+fn glossy_reads_its_anisotropy() {
+    let read = |name: &str, params: &str| {
+        let s = quad_scene(name, &format!("Material \"glossy\" {params}"));
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        match s.materials.last().unwrap().clone() {
+            MaterialDesc::CoatedDiffuse {
+                roughness,
+                anisotropy,
+                ..
+            } => (roughness, anisotropy),
+            other => panic!("{other:?}"),
+        }
+    };
+    assert_eq!(read("glossy_defaults", ""), (0.1 * 0.1, 0.0));
+    let (roughness, anisotropy) = read(
+        "glossy_anisotropic",
+        "\"float uroughness\" [0.4] \"float vroughness\" [0.1]",
+    );
+    assert!((roughness - 0.04).abs() < 1e-7, "{roughness}");
+    assert!((anisotropy - (0.0625 - 1.0)).abs() < 1e-6, "{anisotropy}");
 }
 
 /// A sphere in front of a checkered wall, lit by a point light placed so that the sphere's
