@@ -236,8 +236,7 @@ pub fn build_light_table(
     selection: Res<crate::settings::Techniques>,
     points: Query<&PointLight>,
     spots: Query<&SpotLight>,
-    distants: Query<&DistantLight>,
-    sun_discs: Query<&SunDiscLight>,
+    directional: Query<AnyOf<(&DistantLight, &SunDiscLight)>>,
     environments: Query<&InfiniteLight>,
     geometry: Res<SceneGeometry>,
     mut commands: Commands,
@@ -253,13 +252,15 @@ pub fn build_light_table(
         power.push(light.power());
         lights.push(Light::Spot(*light));
     }
-    for light in &distants {
-        power.push(light.power(radius));
-        lights.push(Light::Distant(*light));
-    }
-    for light in &sun_discs {
-        power.push(light.power(radius));
-        lights.push(Light::SunDisc(*light));
+    for (distant, sun_disc) in &directional {
+        if let Some(light) = distant {
+            power.push(light.power(radius));
+            lights.push(Light::Distant(*light));
+        }
+        if let Some(light) = sun_disc {
+            power.push(light.power(radius));
+            lights.push(Light::SunDisc(*light));
+        }
     }
     // One environment at most: the builder merges several into the first, with a warning.
     let environment = environments.iter().next().map(|light| {
