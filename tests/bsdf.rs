@@ -113,6 +113,7 @@ fn glossy(diffuse: Vec3, specular: Vec3, roughness: f32, absorption: Vec3, depth
         absorption,
         depth,
         roughness,
+        anisotropy: 0.0,
     })
 }
 
@@ -282,6 +283,15 @@ fn non_delta_bsdfs() -> Vec<Bsdf> {
             0.2,
         ),
         glossy(Vec3::ONE, coating_f0(Vec3::ONE, 1.5), 0.5, Vec3::ZERO, 0.0),
+        // LuxRender's anisotropic coating: u 0.1, v 0.3 (r = u v, a = 1 - u^2 / v^2).
+        Bsdf::CoatedGlossy(CoatedGlossy {
+            diffuse: Vec3::new(0.5, 0.3, 0.1),
+            specular: Vec3::splat(0.2),
+            absorption: Vec3::ZERO,
+            depth: 0.0,
+            roughness: 0.03,
+            anisotropy: 1.0 - 1.0 / 9.0,
+        }),
     ]
 }
 

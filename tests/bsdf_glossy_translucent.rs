@@ -32,8 +32,20 @@ fn coating(kd: f32, ks: f32, ka: f32, d: f32, r: f32, multibounce: bool) -> Coat
             absorption: Vec3::new(ka, 0.5 * ka, 0.0),
             depth: d,
             roughness: r,
+            anisotropy: 0.0,
         },
         multibounce,
+    }
+}
+
+/// `coating` with Schlick's anisotropy `a`.
+fn anisotropic(coating: Coating, a: f32) -> Coating {
+    Coating {
+        lobe: CoatedGlossy {
+            anisotropy: a,
+            ..coating.lobe
+        },
+        ..coating
     }
 }
 
@@ -68,6 +80,13 @@ fn cases() -> Vec<Bsdf> {
             Vec3::new(0.9, 0.6, 0.3),
             coating(0.3, 0.1, 1.0, 0.2, 0.05, true),
             coating(0.3, 0.3, 0.5, 0.4, 0.3, false),
+        ),
+        // Anisotropic coatings (LuxRender's u 0.1, v 0.2 in front, u 0.3, v 0.1 behind).
+        sheet(
+            0.4,
+            Vec3::new(0.7, 0.8, 0.9),
+            anisotropic(coating(0.4, 0.1, 0.0, 0.0, 0.02, true), 0.75),
+            anisotropic(coating(0.4, 0.2, 0.0, 0.0, 0.03, false), 1.0 / 9.0 - 1.0),
         ),
         // No transmission: reflection only, on either side.
         sheet(

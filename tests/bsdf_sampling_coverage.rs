@@ -22,6 +22,7 @@ use foton::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet
 use foton::bsdf::oren_nayar::oren_nayar_ab;
 use foton::bsdf::plastic::internal_reflectance;
 use foton::bsdf::rough_plastic::CoatingTables;
+use foton::bsdf::thin_film::ThinFilm;
 use foton::bsdf::{
     Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic,
     RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal, SmoothConductor, ThinDielectric,
@@ -66,6 +67,7 @@ fn glossy(diffuse: Vec3, specular: Vec3, roughness: f32) -> CoatedGlossy {
         absorption: Vec3::new(0.5, 0.2, 0.0),
         depth: 0.1,
         roughness,
+        anisotropy: 0.0,
     }
 }
 
@@ -157,6 +159,11 @@ fn cases() -> Vec<Bsdf> {
             glossy: Vec3::new(0.6, 0.5, 0.3),
             mirror: Vec3::splat(0.7),
             roughness: 0.05,
+            anisotropy: 0.6,
+            film: Some(ThinFilm {
+                thickness: 300.0,
+                index: 1.4,
+            }),
         }),
         Bsdf::Velvet(Velvet {
             reflectance: Vec3::new(0.3, 0.5, 0.9),
@@ -167,6 +174,7 @@ fn cases() -> Vec<Bsdf> {
             base: CoatedGlossy {
                 specular: Vec3::ZERO,
                 roughness: 1.0,
+                anisotropy: 0.0,
                 ..glossy(Vec3::new(0.01, 0.02, 0.1), Vec3::ZERO, 1.0)
             },
             lobes: [(0.3, 0.15, 0.32), (0.2, 0.087, 0.11), (0.1, 0.9, 0.013)].map(

@@ -288,20 +288,22 @@ fn sky_light_renders() {
         .lights
         .iter()
         .find_map(|light| match light {
-            LightDesc::Distant {
+            LightDesc::SunDisc {
                 direction_to_light,
                 radiance,
+                sin_theta_max,
             } => {
                 assert!((*direction_to_light - Vec3::Z).length() < 1e-6);
-                Some(*radiance)
+                // The integral of cos over the cone around the normal: pi sin^2 theta_max.
+                Some(*radiance * PI * sin_theta_max * sin_theta_max)
             }
             _ => None,
         })
-        .expect("sunsky has a distant sun");
+        .expect("sunsky has a sun disc");
     // The sun overhead at turbidity 2 has luminance 1.4964e9 cd/m^2 (the module's formulas
     // evaluated independently in Python, as in `scene::lxs::sun`'s tests), over a disc of
-    // 6.7906e-5 sr: 101,610 lux on a surface facing it (the clear-sky direct normal
-    // illuminance, about 1e5 lux), times the gain.
+    // 6.7906e-5 sr (pi sin^2 theta_max is 3e-6 less): 101,610 lux on a surface facing it (the
+    // clear-sky direct normal illuminance, about 1e5 lux), times the gain.
     let illuminance = foton::film::luminance(sun_irradiance) / 0.001;
     assert!(
         (illuminance / 101_610.0 - 1.0).abs() < 0.01,
@@ -322,9 +324,19 @@ fn sky_light_renders() {
     let sun = scene(&light("sun"));
     assert!(sun.warnings.is_empty(), "{:?}", sun.warnings);
     assert!(
-        matches!(sun.lights[..], [LightDesc::Distant { .. }]),
+        matches!(sun.lights[..], [LightDesc::SunDisc { .. }]),
         "{:?}",
         sun.lights
+    );
+    // `relsize` 0: LuxRender's older point-like sun, a delta light of the disc's radiance.
+    let point_like = scene(
+        r#"LightSource "sun" "float gain" [0.001] "vector sundir" [0 0 1] "float relsize" [0]"#,
+    );
+    assert!(
+        matches!(point_like.lights[..], [LightDesc::Distant { radiance, .. }]
+            if (radiance / 0.001 - sun_radiance_of(&sun)).abs().max_element() < 1.0),
+        "{:?}",
+        point_like.lights
     );
     let below = scene(r#"LightSource "sun" "vector sundir" [0 0.2 -1]"#);
     assert!(
@@ -332,6 +344,14 @@ fn sky_light_renders() {
         "{:?}",
         below.lights
     );
+}
+
+/// The radiance of a scene's one sun disc.
+fn sun_radiance_of(scene: &SceneDesc) -> Vec3 {
+    match scene.lights[..] {
+        [LightDesc::SunDisc { radiance, .. }] => radiance / 0.001,
+        _ => panic!("{:?}", scene.lights),
+    }
 }
 
 /// The mean of the pixels and its standard error (the pixels' standard deviation over the
@@ -343,9 +363,9 @@ fn mean_and_standard_error(image: &[Vec3]) -> (Vec3, Vec3) {
     (mean, (variance / n).map(f32::sqrt))
 }
 
-/// `shinymetal`: Ks and Kr as given, Schlick's r = uroughness x vroughness (LuxRender 1.x's
-/// `SchlickDistribution(u * v, ...)`); a positive `film` (thin-film interference, not
-/// modelled) is one warning.
+/// `shinymetal`: Ks and Kr as given, Schlick's r = uroughness x vroughness and anisotropy
+/// v^2 / u^2 - 1 for u > v (LuxRender 1.x's `SchlickDistribution(u * v, anisotropy)`); a
+/// positive `film` is a thin film of that thickness and `filmindex`, without a warning.
 #[test]
 fn shinymetal_reads_its_parameters() {
     let desc = quad_scene(
@@ -357,6 +377,8 @@ fn shinymetal_reads_its_parameters() {
         glossy: ColorParam::Constant(glossy),
         mirror: ColorParam::Constant(mirror),
         roughness,
+        anisotropy,
+        film: None,
     } = only_material(&desc)
     else {
         panic!("{:?}", desc.materials)
@@ -364,12 +386,25 @@ fn shinymetal_reads_its_parameters() {
     assert_eq!(*glossy, Vec3::new(0.8, 0.6, 0.4));
     assert_eq!(*mirror, Vec3::splat(0.3));
     assert!((roughness - 0.2 * 0.05).abs() < 1e-7, "{roughness}");
+    let expected = 0.05f32.powi(2) / 0.2f32.powi(2) - 1.0;
+    assert!((anisotropy - expected).abs() < 1e-6, "{anisotropy}");
     let film = quad_scene(
         "shinymetal-film",
         r#"Material "shinymetal" "float film" [300] "float filmindex" [1.4]"#,
     );
-    assert_eq!(film.warnings.len(), 1, "{:?}", film.warnings);
-    assert!(film.warnings[0].message.contains("film"));
+    assert!(film.warnings.is_empty(), "{:?}", film.warnings);
+    assert!(
+        matches!(
+            only_material(&film),
+            MaterialDesc::FittedConductor {
+                anisotropy: 0.0,
+                film: Some((300.0, 1.4)),
+                ..
+            }
+        ),
+        "{:?}",
+        film.materials
+    );
 }
 
 /// `velvet` with LuxRender 1.x's defaults (Kd 0.3, p1 -2, p2 20, p3 2, thickness 0.1) and its
@@ -499,13 +534,26 @@ fn glossytranslucent_reads_both_coatings() {
     assert_eq!((constant(kd), constant(kt)), (Vec3::ONE, Vec3::ONE));
     assert_eq!(constant(front.specular), Vec3::ONE);
     assert!((front.roughness - 0.01).abs() < 1e-7);
-    assert!(!front.multibounce);
+    assert!(!front.multibounce && front.anisotropy == 0.0);
     assert_eq!(front, back);
     let (_, _, front, back) = read(
         "gt_two_sided",
         "\"float index\" [1.5] \"bool multibounce\" [\"true\"] \"float d\" [0.3] \
          \"bool onesided\" [\"false\"] \"color backface_Ks\" [0.5 0.5 0.5] \
-         \"float backface_uroughness\" [0.5]",
+         \"float backface_uroughness\" [0.5] \"float uroughness\" [0.1] \"float vroughness\" [0.3]",
+    );
+    // Schlick's anisotropy of the clamped u and v: 1 - u^2 / v^2 for u < v, v^2 / u^2 - 1 else
+    // (the back's v is its default 0, clamped to 6e-3).
+    assert!(
+        (front.anisotropy - (1.0 - 1.0 / 9.0)).abs() < 1e-6,
+        "{}",
+        front.anisotropy
+    );
+    let back_anisotropy = (6e-3f32 / 0.5).powi(2) - 1.0;
+    assert!(
+        (back.anisotropy - back_anisotropy).abs() < 1e-6,
+        "{}",
+        back.anisotropy
     );
     assert!((constant(front.specular).x - 0.04).abs() < 1e-6);
     assert!(front.multibounce && front.depth == 0.3);
@@ -516,6 +564,31 @@ fn glossytranslucent_reads_both_coatings() {
         back.roughness
     );
     assert!(!back.multibounce && back.depth == 0.0);
+}
+
+/// `glossy`: Schlick's r = u v and anisotropy from `uroughness` u and `vroughness` v (each
+/// clamped to [1e-4, 1]), 0 for u = v (LuxRender 1.x's `glossy2.cpp`).
+#[test]
+fn glossy_reads_its_anisotropy() {
+    let read = |name: &str, params: &str| {
+        let s = quad_scene(name, &format!("Material \"glossy\" {params}"));
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        match s.materials.last().unwrap().clone() {
+            MaterialDesc::CoatedDiffuse {
+                roughness,
+                anisotropy,
+                ..
+            } => (roughness, anisotropy),
+            other => panic!("{other:?}"),
+        }
+    };
+    assert_eq!(read("glossy_defaults", ""), (0.1 * 0.1, 0.0));
+    let (roughness, anisotropy) = read(
+        "glossy_anisotropic",
+        "\"float uroughness\" [0.4] \"float vroughness\" [0.1]",
+    );
+    assert!((roughness - 0.04).abs() < 1e-7, "{roughness}");
+    assert!((anisotropy - (0.0625 - 1.0)).abs() < 1e-6, "{anisotropy}");
 }
 
 /// A sphere in front of a checkered wall, lit by a point light placed so that the sphere's

@@ -10,9 +10,9 @@
 //! the absorption of a coating of depth d crossed twice. LuxRender's `index`, when positive,
 //! scales Ks by ((n - 1) / (n + 1))^2 (see [`coating_f0`]).
 //!
-//! foton's version is isotropic (LuxRender's `uroughness` x `vroughness` gives r; the
-//! anisotropy term A(phi) is left at 1) and samples its own way (below), with a pdf that
-//! matches its sampling exactly.
+//! LuxRender's `uroughness` u and `vroughness` v give r = u v and Schlick's anisotropy
+//! (Z times A(h), [`super::schlick_distribution`]); foton samples its own way (below), with a
+//! pdf that matches its sampling exactly.
 
 use super::BsdfSample;
 use super::schlick_distribution::{SchlickLobe, half_vector};
@@ -29,6 +29,8 @@ pub struct CoatedGlossy {
     pub depth: f32,
     /// Schlick's r, in (0, 1].
     pub roughness: f32,
+    /// Schlick's anisotropy a (0: isotropic; positive: the lobe wider along the local y axis).
+    pub anisotropy: f32,
 }
 
 /// The coating's reflectance at normal incidence: Ks, times ((n - 1) / (n + 1))^2 for an
@@ -44,7 +46,7 @@ pub fn coating_f0(ks: Vec3, index: f32) -> Vec3 {
 
 impl CoatedGlossy {
     fn lobe(&self) -> SchlickLobe {
-        SchlickLobe::new(self.roughness)
+        SchlickLobe::anisotropic(self.roughness, self.anisotropy)
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {

@@ -18,8 +18,9 @@
 //! with S1, S2 Schlick's Fresnel of the front and back coatings' Ks at u = |wi . h'|, h' the
 //! normalised (wi.x + wo.x, wi.y + wo.y, wi.z - wo.z) (wo mirrored to wi's side), and
 //! cos_front, cos_back the cosines of the direction on each side. Both lobes are symmetric in
-//! wo and wi, so f is reciprocal. As with `glossy`, foton's coatings are isotropic
-//! (r = uroughness x vroughness).
+//! wo and wi, so f is reciprocal. As with `glossy`, each coating has r = uroughness x
+//! vroughness and Schlick's anisotropy from them, in the same tangent frame on both sides
+//! (mirroring wo and wi through the surface keeps their x and y).
 //!
 //! Sampling: like LuxRender's `MultiBSDF` of its two components, reflection or transmission
 //! with probability 1/2 each (reflection always when the transmission is black); reflection

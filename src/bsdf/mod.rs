@@ -31,6 +31,7 @@ pub mod shiny_metal;
 mod smooth_conductor;
 mod specular_reflection;
 pub mod thin_dielectric;
+pub mod thin_film;
 pub mod velvet;
 
 pub use car_paint::{CarPaint, CarPaintLobe};
@@ -380,6 +381,11 @@ impl Bsdf {
             } => alpha_x != alpha_y,
             Bsdf::RoughConductor(c) => c.distribution.is_anisotropic(),
             Bsdf::RoughDielectric(d) => d.distribution.is_anisotropic(),
+            Bsdf::ShinyMetal(m) => m.is_anisotropic(),
+            Bsdf::CoatedGlossy(c) => c.anisotropy != 0.0,
+            Bsdf::GlossyTranslucent(g) => {
+                g.front.lobe.anisotropy != 0.0 || g.back.lobe.anisotropy != 0.0
+            }
             _ => false,
         }
     }

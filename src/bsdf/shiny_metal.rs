@@ -5,13 +5,12 @@
 //! Each lobe's Fresnel term is `FresnelGeneral(FresnelApproxEta(R), FresnelApproxK(R))`
 //! ([`fr_general`] of [`approx_eta`] and [`approx_k`]), with R = `Kr` for the mirror and
 //! R = `Ks` for the glossy lobe; the mirror reflects F(cos_o), the glossy lobe is
-//! `MicrofacetReflection` of Schlick's distribution of roughness r = u v
-//! ([`super::schlick_distribution`]): f = F(wi . h) D(h) G(wo, wi) / (4 cos_o cos_i).
-//!
-//! foton's lobe is isotropic (LuxRender's anisotropy term A(phi), from u != v, is left at 1:
-//! only the product u v counts), and `film`/`filmindex` (thin-film interference on the mirror)
-//! are not modelled. Sampling picks either lobe with probability 1/2, as LuxRender's BSDF picks
-//! a component uniformly.
+//! `MicrofacetReflection` of Schlick's distribution of roughness r = u v and anisotropy a
+//! from u and v ([`super::schlick_distribution`]): f = F(wi . h) D(h) G(wo, wi) / (4 cos_o
+//! cos_i). A film (`film` thickness > 0, `filmindex`) weighs the mirror's Fresnel term by
+//! LuxRender's thin-film interference ([`ThinFilm`]; `SpecularReflection` with `film`, which
+//! `shinymetal` gives only its mirror). Sampling picks either lobe with probability 1/2, as
+//! LuxRender's BSDF picks a component uniformly.
 //!
 //! Each lobe can reflect up to about its R, so with LuxRender's defaults (`Ks` = `Kr` = 1) the
 //! albedo approaches 2: LuxRender's material is not energy conserving, and foton keeps it so.
@@ -21,6 +20,7 @@ use glam::{Vec2, Vec3};
 use super::BsdfSample;
 use super::fresnel::{approx_eta, approx_k, fr_general};
 use super::schlick_distribution::{SchlickLobe, half_vector};
+use super::thin_film::ThinFilm;
 
 #[derive(Clone, Copy, Debug)]
 pub struct ShinyMetal {
@@ -30,6 +30,10 @@ pub struct ShinyMetal {
     pub mirror: Vec3,
     /// Schlick's roughness r (LuxRender's `uroughness` x `vroughness`).
     pub roughness: f32,
+    /// Schlick's anisotropy a (0: isotropic; positive: the lobe wider along the local y axis).
+    pub anisotropy: f32,
+    /// Thin-film interference on the mirror, if any.
+    pub film: Option<ThinFilm>,
 }
 
 /// The probability of each lobe.
@@ -40,6 +44,24 @@ impl ShinyMetal {
         fr_general(cos, approx_eta(reflectance), approx_k(reflectance))
     }
 
+    fn lobe(&self) -> SchlickLobe {
+        SchlickLobe::anisotropic(self.roughness, self.anisotropy)
+    }
+
+    /// Whether the glossy lobe depends on the azimuth (the frame must follow dp/du).
+    pub fn is_anisotropic(&self) -> bool {
+        self.anisotropy != 0.0
+    }
+
+    /// The mirror's reflectance at `cos_o`: its Fresnel term times the film's weight.
+    pub fn mirror_reflectance(&self, cos_o: f32) -> Vec3 {
+        let fresnel = Self::fresnel(self.mirror, cos_o);
+        match self.film {
+            Some(film) => fresnel * film.rgb_weight(cos_o),
+            None => fresnel,
+        }
+    }
+
     /// The glossy lobe (the mirror is a delta, not part of eval).
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
@@ -48,7 +70,7 @@ impl ShinyMetal {
         let Some((h, cos_wh)) = half_vector(wo, wi) else {
             return Vec3::ZERO;
         };
-        Self::fresnel(self.glossy, cos_wh) * SchlickLobe::new(self.roughness).eval(wo, wi, h)
+        Self::fresnel(self.glossy, cos_wh) * self.lobe().eval(wo, wi, h)
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -58,7 +80,7 @@ impl ShinyMetal {
         let Some((h, cos_wh)) = half_vector(wo, wi) else {
             return 0.0;
         };
-        (1.0 - LOBE_PROBABILITY) * SchlickLobe::new(self.roughness).pdf(h, cos_wh)
+        (1.0 - LOBE_PROBABILITY) * self.lobe().pdf(h, cos_wh)
     }
 
     /// `uc` picks the lobe: the mirror below 1/2.
@@ -70,17 +92,17 @@ impl ShinyMetal {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
             return Some(BsdfSample {
                 wi,
-                f: Self::fresnel(self.mirror, wo.z) / wi.z,
+                f: self.mirror_reflectance(wo.z) / wi.z,
                 pdf: LOBE_PROBABILITY,
                 delta: true,
             });
         }
-        let wi = SchlickLobe::new(self.roughness).sample(wo, u);
+        let wi = self.lobe().sample(wo, u);
         BsdfSample::glossy(wi, self.eval(wo, wi), self.pdf(wo, wi))
     }
 
     /// Both lobes at normal incidence, at most 1.
     pub fn albedo(&self) -> Vec3 {
-        (Self::fresnel(self.mirror, 1.0) + Self::fresnel(self.glossy, 1.0)).min(Vec3::ONE)
+        (self.mirror_reflectance(1.0) + Self::fresnel(self.glossy, 1.0)).min(Vec3::ONE)
     }
 }

@@ -44,6 +44,13 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
             });
             path.add_radiance(*path.throughput * light * weight);
         }
+        for (index, sun) in lights.sun_discs().filter(|_| !hidden) {
+            let light = sun.radiance_towards(*path.direction);
+            if light != Vec3::ZERO {
+                let weight = emission_weight(lights, *path.scatter_pdf, index, || sun.pdf());
+                path.add_radiance(*path.throughput * light * weight);
+            }
+        }
         *path.alive = false;
         return None;
     };

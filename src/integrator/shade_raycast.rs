@@ -48,6 +48,9 @@ fn shade_hit(
         if let Some((_, environment)) = scene.lights.environment() {
             path.add_radiance(*path.throughput * environment.radiance(*path.direction));
         }
+        for (_, sun) in scene.lights.sun_discs() {
+            path.add_radiance(*path.throughput * sun.radiance_towards(*path.direction));
+        }
         *path.alive = false;
         return;
     };

@@ -1,4 +1,4 @@
-//! Lights: point, spot and distant lights and the environment are entities of their own; area
+//! Lights: point, spot and distant lights, sun discs and the environment are entities of their own; area
 //! lights are shapes with an `AreaEmitter`. At startup [`build_light_table`] gathers them into
 //! the [`LightTable`] the shade stage samples, choosing one light for next-event estimation by
 //! the [`LightSelection`].
@@ -8,6 +8,7 @@ pub mod distant;
 pub mod infinite;
 pub mod point;
 pub mod spot;
+pub mod sun_disc;
 
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
@@ -19,6 +20,7 @@ use distant::DistantLight;
 use infinite::{Environment, InfiniteLight};
 use point::PointLight;
 use spot::SpotLight;
+use sun_disc::SunDiscLight;
 
 /// Light arriving at a point from one sampled direction.
 #[derive(Clone, Copy, Debug)]
@@ -39,6 +41,7 @@ pub enum Light {
     Point(PointLight),
     Spot(SpotLight),
     Distant(DistantLight),
+    SunDisc(SunDiscLight),
     Environment(Environment),
     Area(AreaLight),
 }
@@ -50,6 +53,7 @@ impl Light {
             Light::Point(light) => light.sample(p),
             Light::Spot(light) => light.sample(p),
             Light::Distant(light) => Some(light.sample()),
+            Light::SunDisc(light) => Some(light.sample(u)),
             Light::Environment(light) => light.sample(u),
             Light::Area(light) => light.sample(p, u),
         }
@@ -121,6 +125,8 @@ pub struct LightTable {
     /// Light index of each of the geometry's emissive shapes.
     emitter_light: Vec<u32>,
     environment: Option<u32>,
+    /// Indices into `lights` of the sun discs, which escaped rays can see.
+    sun_discs: Vec<u32>,
 }
 
 impl LightTable {
@@ -134,6 +140,9 @@ impl LightTable {
         emitter_light: Vec<u32>,
         environment: Option<u32>,
     ) -> Self {
+        let sun_discs = (0..lights.len() as u32)
+            .filter(|&i| matches!(lights[i as usize], Light::SunDisc(_)))
+            .collect();
         let selectable: Vec<u32> = (0..lights.len() as u32)
             .filter(|&i| lights[i as usize].is_sampled_for_mis())
             .collect();
@@ -150,6 +159,7 @@ impl LightTable {
             probability,
             emitter_light,
             environment,
+            sun_discs,
         }
     }
 
@@ -184,6 +194,16 @@ impl LightTable {
         }
     }
 
+    /// The sun discs with their indices: what an escaped ray sees besides the environment.
+    pub fn sun_discs(&self) -> impl Iterator<Item = (usize, &SunDiscLight)> {
+        self.sun_discs
+            .iter()
+            .filter_map(|&i| match &self.lights[i as usize] {
+                Light::SunDisc(light) => Some((i as usize, light)),
+                _ => None,
+            })
+    }
+
     /// The kinds of light, counted, e.g. "2 point, 1 area".
     pub fn kinds(&self) -> String {
         let mut counts: Vec<(&str, usize)> = Vec::new();
@@ -192,6 +212,7 @@ impl LightTable {
                 Light::Point(_) => "point",
                 Light::Spot(_) => "spot",
                 Light::Distant(_) => "distant",
+                Light::SunDisc(_) => "sun disc",
                 Light::Environment(_) => "infinite",
                 Light::Area(_) => "area",
             };
@@ -206,7 +227,7 @@ impl LightTable {
 
     /// Whether any light can be hit by a BSDF-sampled ray (then MIS weights are needed).
     pub fn has_hittable_lights(&self) -> bool {
-        self.environment.is_some() || !self.emitter_light.is_empty()
+        self.environment.is_some() || !self.emitter_light.is_empty() || !self.sun_discs.is_empty()
     }
 }
 
@@ -215,7 +236,7 @@ pub fn build_light_table(
     selection: Res<crate::settings::Techniques>,
     points: Query<&PointLight>,
     spots: Query<&SpotLight>,
-    distants: Query<&DistantLight>,
+    directional: Query<AnyOf<(&DistantLight, &SunDiscLight)>>,
     environments: Query<&InfiniteLight>,
     geometry: Res<SceneGeometry>,
     mut commands: Commands,
@@ -231,9 +252,15 @@ pub fn build_light_table(
         power.push(light.power());
         lights.push(Light::Spot(*light));
     }
-    for light in &distants {
-        power.push(light.power(radius));
-        lights.push(Light::Distant(*light));
+    for (distant, sun_disc) in &directional {
+        if let Some(light) = distant {
+            power.push(light.power(radius));
+            lights.push(Light::Distant(*light));
+        }
+        if let Some(light) = sun_disc {
+            power.push(light.power(radius));
+            lights.push(Light::SunDisc(*light));
+        }
     }
     // One environment at most: the builder merges several into the first, with a warning.
     let environment = environments.iter().next().map(|light| {

@@ -14,6 +14,7 @@ use crate::bsdf::microfacet::TrowbridgeReitz;
 use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
 use crate::bsdf::rough_plastic::CoatingTables;
+use crate::bsdf::thin_film::ThinFilm;
 use crate::bsdf::{
     Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent,
     GlossyTranslucent, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal,
@@ -51,6 +52,7 @@ pub enum Material {
         absorption: Color,
         depth: f32,
         roughness: f32,
+        anisotropy: f32,
     },
     SpecularReflection {
         reflectance: Color,
@@ -119,6 +121,8 @@ pub enum Material {
         glossy: Color,
         mirror: Color,
         roughness: f32,
+        anisotropy: f32,
+        film: Option<ThinFilm>,
     },
     /// Asperity scattering: Legendre coefficients of the phase function, optical thickness.
     Velvet {
@@ -168,6 +172,7 @@ pub struct GlossyCoating {
     pub absorption: Color,
     pub depth: f32,
     pub roughness: f32,
+    pub anisotropy: f32,
     pub multibounce: bool,
 }
 
@@ -389,12 +394,14 @@ impl Inputs<'_> {
                 absorption,
                 depth,
                 roughness,
+                anisotropy,
             } => Bsdf::CoatedGlossy(CoatedGlossy {
                 diffuse: color(diffuse),
                 specular: color(specular),
                 absorption: color(absorption),
                 depth: *depth,
                 roughness: *roughness,
+                anisotropy: *anisotropy,
             }),
             Material::SpecularReflection { reflectance } => Bsdf::SpecularReflection {
                 reflectance: color(reflectance),
@@ -430,6 +437,7 @@ impl Inputs<'_> {
                         absorption: color(&c.absorption),
                         depth: c.depth,
                         roughness: c.roughness,
+                        anisotropy: c.anisotropy,
                     },
                     multibounce: c.multibounce,
                 };
@@ -526,10 +534,14 @@ impl Inputs<'_> {
                 glossy,
                 mirror,
                 roughness,
+                anisotropy,
+                film,
             } => Bsdf::ShinyMetal(ShinyMetal {
                 glossy: color(glossy),
                 mirror: color(mirror),
                 roughness: *roughness,
+                anisotropy: *anisotropy,
+                film: *film,
             }),
             Material::Velvet {
                 reflectance,
@@ -552,6 +564,7 @@ impl Inputs<'_> {
                     absorption: color(absorption),
                     depth: *depth,
                     roughness: 1.0,
+                    anisotropy: 0.0,
                 },
                 lobes: lobes.map(|l| CarPaintLobe {
                     specular: color(&l.specular),

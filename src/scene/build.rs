@@ -15,6 +15,7 @@ use crate::bsdf::microfacet::clamp_alpha;
 use crate::bsdf::microfacet_distribution::{DistributionKind, Microfacet};
 use crate::bsdf::plastic::internal_reflectance;
 use crate::bsdf::rough_plastic::CoatingTables;
+use crate::bsdf::thin_film::ThinFilm;
 use crate::camera::fisheye::FisheyeFit;
 use crate::camera::thin_lens::ThinLens;
 use crate::camera::{CameraPose, CameraSetup, CameraType, default_screen_window};
@@ -24,6 +25,7 @@ use crate::light::distant::DistantLight;
 use crate::light::infinite::InfiniteLight;
 use crate::light::point::PointLight;
 use crate::light::spot::SpotLight;
+use crate::light::sun_disc::SunDiscLight;
 use crate::material::bump::BumpMap;
 use crate::material::texture::{self, TextureTable};
 use crate::material::{Color, GlossyCoating, Material, MaterialTable, PaintLobe};
@@ -252,6 +254,17 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                     radiance: *radiance,
                 });
             }
+            LightDesc::SunDisc {
+                direction_to_light,
+                radiance,
+                sin_theta_max,
+            } => {
+                world.spawn(SunDiscLight::new(
+                    *direction_to_light,
+                    *radiance,
+                    *sin_theta_max,
+                ));
+            }
             LightDesc::Infinite {
                 radiance,
                 map,
@@ -385,12 +398,14 @@ fn material(desc: &MaterialDesc) -> Material {
             absorption,
             depth,
             roughness,
+            anisotropy,
         } => Material::CoatedGlossy {
             diffuse: color(diffuse),
             specular: color(specular),
             absorption: color(absorption),
             depth: *depth,
             roughness: *roughness,
+            anisotropy: *anisotropy,
         },
         MaterialDesc::Mirror { reflectance } => Material::SpecularReflection {
             reflectance: color(reflectance),
@@ -424,6 +439,7 @@ fn material(desc: &MaterialDesc) -> Material {
                 absorption: color(&c.absorption),
                 depth: c.depth,
                 roughness: c.roughness,
+                anisotropy: c.anisotropy,
                 multibounce: c.multibounce,
             };
             Material::GlossyTranslucent {
@@ -504,10 +520,14 @@ fn material(desc: &MaterialDesc) -> Material {
             glossy,
             mirror,
             roughness,
+            anisotropy,
+            film,
         } => Material::FittedConductor {
             glossy: color(glossy),
             mirror: color(mirror),
             roughness: *roughness,
+            anisotropy: *anisotropy,
+            film: film.map(|(thickness, index)| ThinFilm { thickness, index }),
         },
         MaterialDesc::Velvet {
             reflectance,

@@ -276,13 +276,15 @@ pub enum MaterialDesc {
     },
     /// A diffuse base under a glossy dielectric coating (Schlick's coated model):
     /// `specular` the coating's reflectance at normal incidence, `absorption` and `depth` its
-    /// absorption coefficient and thickness, `roughness` Schlick's r (GGX alpha^2).
+    /// absorption coefficient and thickness, `roughness` Schlick's r (GGX alpha^2),
+    /// `anisotropy` Schlick's (0 isotropic, positive: wider along the surface's v).
     CoatedDiffuse {
         diffuse: ColorParam,
         specular: ColorParam,
         absorption: ColorParam,
         depth: f32,
         roughness: f32,
+        anisotropy: f32,
     },
     /// A perfect mirror: `reflectance` at every angle, no Fresnel falloff.
     Mirror { reflectance: ColorParam },
@@ -344,10 +346,14 @@ pub enum MaterialDesc {
     /// A mirror plus a glossy Schlick microfacet lobe of roughness r = `roughness`, each with a
     /// conductor Fresnel term whose complex index is fitted to a reflectance (`mirror`,
     /// `glossy`; pbrt-v1's `FresnelApproxEta`/`FresnelApproxK`): LuxRender's `shinymetal`.
+    /// `anisotropy` is Schlick's (0 isotropic, positive: wider along the surface's v);
+    /// `film` a thin film's thickness (nm) and index on the mirror.
     FittedConductor {
         glossy: ColorParam,
         mirror: ColorParam,
         roughness: f32,
+        anisotropy: f32,
+        film: Option<(f32, f32)>,
     },
     /// Asperity scattering of a thin layer (Koenderink and Pont 2002): `legendre` the phase
     /// function's coefficients A1..A3, `thickness` the layer's optical thickness.
@@ -402,6 +408,8 @@ pub struct GlossyCoatingDesc {
     pub absorption: ColorParam,
     pub depth: f32,
     pub roughness: f32,
+    /// Schlick's anisotropy (see [`MaterialDesc::CoatedDiffuse`]).
+    pub anisotropy: f32,
     pub multibounce: bool,
 }
 
@@ -511,6 +519,13 @@ pub enum LightDesc {
     Distant {
         direction_to_light: Vec3,
         radiance: Vec3,
+    },
+    /// A distant disc (the sun): `radiance` from every direction within the cone around
+    /// `direction_to_light` (unit, world space) whose half-angle has sine `sin_theta_max`.
+    SunDisc {
+        direction_to_light: Vec3,
+        radiance: Vec3,
+        sin_theta_max: f32,
     },
     /// Environment light: constant `radiance`, times the lat-long map if given.
     Infinite {

@@ -4,10 +4,12 @@
 //! `multibounce` false. With `onesided` (true) the back coating is the front's; otherwise it
 //! is read from `backface_Ks`, `backface_index`, `backface_Ka`, `backface_d`,
 //! `backface_uroughness`, `backface_vroughness`, `backface_multibounce`, whose defaults are 0
-//! and false (a rough, black back coating unless given). foton's coatings are isotropic.
+//! and false (a rough, black back coating unless given). Each coating's Schlick anisotropy
+//! comes from its clamped u and v (`glossytranslucent.cpp`: `anisotropy`, `banisotropy`).
 
 use glam::Vec3;
 
+use super::materials::schlick_anisotropy;
 use super::params::ParamList;
 use super::parser::Parser;
 use crate::bsdf::coated_glossy::coating_f0;
@@ -75,6 +77,7 @@ impl Parser {
             absorption,
             depth,
             roughness: clamp(u) * clamp(v),
+            anisotropy: schlick_anisotropy(clamp(u), clamp(v)),
             multibounce: params.bool(&name("multibounce"))?.unwrap_or(false),
         })
     }

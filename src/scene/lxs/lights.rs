@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::params::ParamList;
 use super::parser::Parser;
 use super::sky::PreethamSky;
-use super::sun::{sun_radiance, sun_solid_angle};
+use super::sun::{sun_radiance, sun_sin_theta_max};
 use crate::film::luminance;
 use crate::scene::desc::{
     AreaLightDesc, ColorParam, ImageTexture, LightDesc, SceneError, ShapeDesc, SpotFalloff,
@@ -153,9 +153,10 @@ impl Parser {
 
     /// `sun` (LuxRender 1.x `lights/sun.cpp`: `sundir` (0 0 -1) through the CTM, `turbidity`
     /// 2, `relsize` 1, `gain` 1): the attenuated solar spectrum of the sun's zenith angle in the
-    /// world ([`sun_radiance`]) times `gain`, as a distant light carrying the disc's irradiance
-    /// (radiance times its solid angle). `relsize` 0 is LuxRender's old delta sun, whose
-    /// irradiance is the radiance itself. `None` when the sun is below the horizon (dark).
+    /// world ([`sun_radiance`]) times `gain`, seen within the cone of the disc `relsize` times
+    /// the sun's size ([`LightDesc::SunDisc`]). `relsize` 0 is LuxRender's old delta sun, a
+    /// distant light whose irradiance is the radiance itself. `None` when the sun is below the
+    /// horizon (dark).
     fn sun(
         &mut self,
         line: usize,
@@ -173,20 +174,23 @@ impl Parser {
         if radiance == Vec3::ZERO {
             return Ok(None);
         }
-        let solid_angle = if relsize == 0.0 {
+        if relsize == 0.0 {
+            return Ok(Some(LightDesc::Distant {
+                direction_to_light: direction,
+                radiance,
+            }));
+        }
+        let sin_theta_max = sun_sin_theta_max(relsize).unwrap_or_else(|| {
+            self.warn(
+                line,
+                format!("LightSource \"sun\": \"relsize\" {relsize} exceeds a hemisphere: reduced to one"),
+            );
             1.0
-        } else {
-            sun_solid_angle(relsize).unwrap_or_else(|| {
-                self.warn(
-                    line,
-                    format!("LightSource \"sun\": \"relsize\" {relsize} exceeds a hemisphere: reduced to one"),
-                );
-                2.0 * PI
-            })
-        };
-        Ok(Some(LightDesc::Distant {
+        });
+        Ok(Some(LightDesc::SunDisc {
             direction_to_light: direction,
-            radiance: radiance * solid_angle,
+            radiance,
+            sin_theta_max,
         }))
     }
 

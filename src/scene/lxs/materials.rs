@@ -37,6 +37,23 @@ fn metal2_alpha(roughness: f32) -> f32 {
     roughness
 }
 
+/// Schlick's anisotropy of LuxRender's `uroughness` u and `vroughness` v (`shinymetal.cpp`,
+/// `glossy2.cpp`, `glossytranslucent.cpp`): 1 - u^2 / v^2 when u < v, else v^2 / u^2 - 1; 0 for
+/// u = v, positive when the lobe is wider along v.
+pub(super) fn schlick_anisotropy(u: f32, v: f32) -> f32 {
+    let (u2, v2) = (u * u, v * v);
+    let anisotropy = if u2 < v2 {
+        1.0 - u2 / v2
+    } else {
+        v2 / u2 - 1.0
+    };
+    if anisotropy.is_finite() {
+        anisotropy
+    } else {
+        0.0
+    }
+}
+
 impl Parser {
     pub(super) fn material(
         &mut self,
@@ -89,7 +106,7 @@ impl Parser {
             }
             // `materials/glossy2.cpp`: Kd 1, Ks 1 (times ((n - 1) / (n + 1))^2 when `index` > 0),
             // Ka 0, d 0, uroughness = vroughness = 0.1 clamped to [1e-4, 1], Schlick's
-            // r = u v. foton's coating is isotropic.
+            // r = u v and anisotropy of the clamped u and v.
             "glossy" => {
                 let diffuse = self.color_param(params, "Kd", Vec3::ONE, line)?;
                 let index = self.constant_float(params, "index", 0.0, line)?;
@@ -109,6 +126,7 @@ impl Parser {
                     absorption,
                     depth,
                     roughness: clamp(u) * clamp(v),
+                    anisotropy: schlick_anisotropy(clamp(u), clamp(v)),
                 }
             }
             "mirror" => MaterialDesc::Mirror {
@@ -298,8 +316,8 @@ impl Parser {
     }
 
     /// `shinymetal` (LuxRender 1.x `materials/shinymetal.cpp`): `Ks`, `Kr` (1), `uroughness`,
-    /// `vroughness` (0.1; Schlick's r = u v, foton's lobe isotropic); `film` (thin-film
-    /// thickness in nm, 0) is not modelled: a warning when positive.
+    /// `vroughness` (0.1; Schlick's r = u v and anisotropy from u and v), `film` (thin-film
+    /// thickness in nm, 0: none) and `filmindex` (1.5) on the mirror.
     fn shiny_metal(
         &mut self,
         line: usize,
@@ -309,17 +327,14 @@ impl Parser {
         let mirror = self.color_param(params, "Kr", Vec3::ONE, line)?;
         let u = self.constant_float(params, "uroughness", 0.1, line)?;
         let v = self.constant_float(params, "vroughness", 0.1, line)?;
-        if self.constant_float(params, "film", 0.0, line)? > 0.0 {
-            self.warn(
-                line,
-                "shinymetal: \"film\" (thin-film interference) unsupported: ignored",
-            );
-        }
-        self.constant_float(params, "filmindex", 1.5, line)?;
+        let thickness = self.constant_float(params, "film", 0.0, line)?;
+        let index = self.constant_float(params, "filmindex", 1.5, line)?;
         Ok(MaterialDesc::FittedConductor {
             glossy,
             mirror,
             roughness: u * v,
+            anisotropy: schlick_anisotropy(u, v),
+            film: (thickness > 0.0).then_some((thickness, index)),
         })
     }
 

@@ -21,10 +21,11 @@
 //! sky's luminance ([`super::sky`]), so sun and sky keep their physical ratio. LuxRender renders
 //! the spectrum; foton projects it to CIE XYZ and linear sRGB.
 //!
-//! The light is the sun's disc as foton's delta distant light carrying the disc's irradiance
-//! (radiance times its solid angle): shadows are sharp and a mirror shows no sun disc.
+//! The light is the sun's disc ([`crate::light::sun_disc`]): this radiance inside the cone
+//! the disc subtends, sampled uniformly, seen by escaped rays (soft shadows, the sun in
+//! mirrors). `relsize` 0 is LuxRender's older point-like sun, a delta distant light.
 
-use std::f32::consts::{FRAC_PI_2, PI};
+use std::f32::consts::FRAC_PI_2;
 
 use glam::Vec3;
 
@@ -192,18 +193,13 @@ pub fn sun_radiance(theta_s: f32, turbidity: f32) -> Vec3 {
     (XYZ_TO_SRGB * xyz).max(Vec3::ZERO)
 }
 
-/// The solid angle (sr) of the sun's disc `relsize` times its real size (0.53 degrees
-/// across): sin theta_max = relsize r / d, the cone's solid angle 2 pi (1 - cos theta_max),
-/// written 2 pi sin^2 / (1 + cos) to keep its digits for small angles. `None` when the disc
-/// would exceed a hemisphere (relsize above d / r = 215), which LuxRender clamps to one (with a
-/// warning).
-pub fn sun_solid_angle(relsize: f32) -> Option<f32> {
+/// The sine of the half-angle of the cone that the sun's disc `relsize` times its real size
+/// (0.53 degrees across) subtends: sin theta_max = relsize r / d (`SunLight`'s constructor).
+/// `None` when the disc would exceed a hemisphere (relsize above d / r = 215), which LuxRender
+/// clamps to one (with a warning).
+pub fn sun_sin_theta_max(relsize: f32) -> Option<f32> {
     let sin_theta_max = relsize.abs() * SUN_RADIUS_KM / SUN_DISTANCE_KM;
-    if sin_theta_max > 1.0 {
-        return None;
-    }
-    let sin2 = sin_theta_max * sin_theta_max;
-    Some(2.0 * PI * sin2 / (1.0 + (1.0 - sin2).sqrt()))
+    (sin_theta_max <= 1.0).then_some(sin_theta_max)
 }
 
 #[cfg(test)]
@@ -276,16 +272,14 @@ mod tests {
     }
 
     /// The real sun subtends 0.533 degrees: a cone of half-angle asin(695500 / 149.6e6) =
-    /// 0.2664 degrees, 2 pi (1 - cos) = 6.7906e-5 sr; the solid angle grows as relsize^2 while
-    /// small, and is refused beyond a hemisphere.
+    /// 0.2664 degrees; the sine grows with relsize, and is refused beyond a hemisphere.
     #[test]
-    fn solid_angle_of_the_disc() {
-        let one = sun_solid_angle(1.0).unwrap();
-        assert!(close(one, 6.7906e-5, 1e-3), "{one}");
-        let ten = sun_solid_angle(10.0).unwrap();
-        assert!(close(ten / one, 100.0, 1e-3), "{ten}");
-        assert!(close(sun_solid_angle(215.0).unwrap(), 2.0 * PI, 0.05));
-        assert_eq!(sun_solid_angle(0.0), Some(0.0));
-        assert_eq!(sun_solid_angle(300.0), None);
+    fn half_angle_of_the_disc() {
+        let one = sun_sin_theta_max(1.0).unwrap();
+        assert!(close(one.asin().to_degrees(), 0.2664, 1e-3), "{one}");
+        assert!(close(sun_sin_theta_max(10.0).unwrap() / one, 10.0, 1e-5));
+        assert!(close(sun_sin_theta_max(215.0).unwrap(), 1.0, 0.01));
+        assert_eq!(sun_sin_theta_max(0.0), Some(0.0));
+        assert_eq!(sun_sin_theta_max(300.0), None);
     }
 }
