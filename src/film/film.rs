@@ -1,6 +1,8 @@
 //! Per-pixel accumulation of radiance samples, by filter importance sampling or by splatting.
 
 use bevy_ecs::prelude::Resource;
+use std::ops::Range;
+
 use glam::{DVec3, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
@@ -275,12 +277,7 @@ impl Film {
             || samples.len() < 2 * MIN_SAMPLES_PER_BAND
             || !in_pixel_order()
         {
-            let mut rows = FilmRows {
-                first_row: 0,
-                sums: &mut self.sums,
-                counts: &mut self.counts,
-                max_component,
-            };
+            let mut rows = FilmRows::new(0, width, &mut self.sums, &mut self.counts, max_component);
             let rejected = with_avx2_if_present(
                 #[inline(always)]
                 || {
@@ -333,12 +330,8 @@ impl Film {
             .into_par_iter()
             .enumerate()
             .map(|(band, (sums, counts))| {
-                let mut rows = FilmRows {
-                    first_row: first_row + band * band_rows,
-                    sums,
-                    counts,
-                    max_component,
-                };
+                let first_row = first_row + band * band_rows;
+                let mut rows = FilmRows::new(first_row, width, sums, counts, max_component);
                 with_avx2_if_present(
                     #[inline(always)]
                     || {
@@ -396,13 +389,36 @@ pub struct FilmSample {
 /// Consecutive whole rows of the film's sums and counts, from `first_row`.
 struct FilmRows<'a> {
     first_row: usize,
+    /// The rows held, and their pixels (y * width + x): worked out once, so that a sample
+    /// finds whether its pixel is here by comparisons rather than a division by the width.
+    rows: Range<usize>,
+    pixels: Range<usize>,
     sums: &'a mut [WeightedSum],
     counts: &'a mut [u64],
     /// The film's `--clamp` limit on a sample's largest component.
     max_component: Option<f32>,
 }
 
-impl FilmRows<'_> {
+impl<'a> FilmRows<'a> {
+    /// The rows from `first_row` that `counts` (whole rows of `width` pixels) covers.
+    fn new(
+        first_row: usize,
+        width: usize,
+        sums: &'a mut [WeightedSum],
+        counts: &'a mut [u64],
+        max_component: Option<f32>,
+    ) -> Self {
+        let rows = first_row..first_row + counts.len() / width;
+        Self {
+            first_row,
+            pixels: rows.start * width..rows.end * width,
+            rows,
+            sums,
+            counts,
+            max_component,
+        }
+    }
+
     /// Adds `sample`'s share of these rows: its weighted radiance in the pixels of these rows
     /// under its footprint, and its count if its own pixel is here. Returns false if the sample
     /// is invalid (NaN, infinite or negative) and its own pixel is here: the one band that
@@ -415,14 +431,14 @@ impl FilmRows<'_> {
         sample: &FilmSample,
     ) -> bool {
         let w = width as usize;
-        let rows = self.first_row..self.first_row + self.counts.len() / w;
+        let rows = self.rows.clone();
         let pixel = sample.pixel as usize;
-        let home = rows.contains(&(pixel / w));
+        let home = self.pixels.contains(&pixel);
         let valid = sample.radiance.is_finite() && sample.radiance.cmpge(Vec3::ZERO).all();
         if !valid {
             return !home;
         }
-        let offset = self.first_row * w;
+        let offset = self.pixels.start;
         if home {
             self.counts[pixel - offset] += 1;
         }

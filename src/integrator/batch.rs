@@ -115,7 +115,7 @@ impl PathBatch {
             .split(&self.alive[..n], &mut self.finished, &sample);
         let finished = std::mem::take(&mut self.finished);
         rayon::join(
-            || finish(&finished),
+            || finish(&finished[..n - live]),
             || {
                 if live < n {
                     self.gather_live(live);
@@ -159,19 +159,26 @@ impl Partition {
                 .map(|block| block.iter().filter(|a| **a).count()),
         );
         let live = self.counts.iter().sum();
-        resize(&mut self.order, live, 0);
+        // Both only grow (to the chunk's size, on its first bounce), and only their first
+        // `live` and `alive.len() - live` entries are used: setting their lengths anew at every
+        // bounce would write each entry on one thread before the parallel writes below.
+        grow(&mut self.order, live, 0);
         let placeholder = FilmSample {
             pixel: 0,
             position: Vec2::ZERO,
             radiance: Vec3::ZERO,
         };
-        resize(finished, alive.len() - live, placeholder);
+        grow(finished, alive.len() - live, placeholder);
         let slots = Slots {
             alive,
             counts: &self.counts,
             first: 0,
         };
-        slots.write(&mut self.order, finished, sample);
+        slots.write(
+            &mut self.order[..live],
+            &mut finished[..alive.len() - live],
+            sample,
+        );
         live
     }
 }
@@ -282,6 +289,13 @@ impl ShadowBatch {
 fn resize<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
     values.truncate(count);
     values.resize(count, value);
+}
+
+/// Lengthens `values` to at least `count`, new slots taking `value`; never shortens it.
+fn grow<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
+    if values.len() < count {
+        values.resize(count, value);
+    }
 }
 
 #[cfg(test)]
