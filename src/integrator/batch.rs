@@ -305,6 +305,31 @@ fn grow<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
 mod tests {
     use super::*;
 
+    /// A second bounce that finishes fewer paths than the first: `finish` gets exactly this
+    /// bounce's samples (the partition's buffers keep their larger length from the first).
+    #[test]
+    fn a_later_retire_hands_over_only_its_own_finished_paths() {
+        let n = 3 * PARTITION_BLOCK;
+        let mut batch = PathBatch::default();
+        batch.resize(n);
+        for i in 0..n {
+            batch.pixel[i] = i as u32;
+            batch.alive[i] = i % 2 == 0;
+        }
+        let mut first = Vec::new();
+        let live = batch.retire(|samples| first.extend(samples.iter().map(|s| s.pixel)));
+        assert_eq!(first.len(), n - live);
+        // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish now.
+        for slot in 0..live {
+            batch.alive[slot] = batch.pixel[slot] % 6 != 0;
+        }
+        let expected: Vec<u32> = (0..n as u32).step_by(6).collect();
+        let mut second = Vec::new();
+        let still_live = batch.retire(|samples| second.extend(samples.iter().map(|s| s.pixel)));
+        assert_eq!(second, expected);
+        assert_eq!(still_live, live - expected.len());
+    }
+
     #[test]
     fn retire_keeps_live_paths_in_order_and_hands_over_the_rest() {
         // More than two partition blocks, with a pattern that differs between them.
