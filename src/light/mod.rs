@@ -59,6 +59,12 @@ impl Light {
         }
     }
 
+    /// A light of one position or one direction (pbrt-v4's `IsDeltaLight`): its `sample`
+    /// ignores `u`.
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Distant(_))
+    }
+
     /// `sample` for next-event estimation that MIS combines with BSDF sampling: the
     /// environment then samples its compensated distribution ([`Environment::sample_for_mis`]).
     #[inline]
