@@ -7,7 +7,7 @@
 use std::f32::consts::PI;
 
 use bevy_ecs::prelude::*;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::batch::{PathBatch, ShadowBatch};
 use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
@@ -15,7 +15,6 @@ use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::light::LightTable;
 use crate::shape::geometry::NO_EMITTER;
-use crate::shape::surface::SurfacePoint;
 
 /// The ray caster needs one shadow ray per light at each shaded point.
 pub fn shadow_rays_per_path(lights: &LightTable) -> usize {
@@ -93,8 +92,15 @@ fn shade_hit(
         return;
     }
 
+    let lobe = Lobe::new(&bsdf, surface.shading_normal, wo);
     for (slot, light) in scene.lights.lights.iter().enumerate() {
-        let u = path.rng.next_2d();
+        // A point, spot or distant light has one direction to sample: no random numbers drawn
+        // for it (the path ends here, so nothing later depends on the stream's position).
+        let u = if light.is_delta() {
+            Vec2::ZERO
+        } else {
+            path.rng.next_2d()
+        };
         let Some(sample) = light.sample(surface.position, u) else {
             continue;
         };
@@ -102,8 +108,8 @@ fn shade_hit(
         if sample.pdf <= 0.0 || cos <= 0.0 || sample.wi.dot(surface.geometric_normal) <= 0.0 {
             continue;
         }
-        let f = local_shading(&bsdf, &surface, wo, sample.wi);
-        let contribution = *path.throughput * f * cos * sample.radiance / sample.pdf;
+        let contribution =
+            *path.throughput * lobe.eval(sample.wi) * cos * sample.radiance / sample.pdf;
         if contribution.is_finite() && contribution != Vec3::ZERO {
             emit_shadow(
                 slot,
@@ -116,25 +122,53 @@ fn shade_hit(
 
 /// The ray caster's reflection models: Lambert, and for metals a normalised Phong lobe
 /// (Lafortune & Willems 1994: (n + 2) / 2pi cos^n of the angle to the mirror direction) with
-/// the exponent that matches the GGX alpha, n = 2 / alpha^2 - 2 (Walter et al. 2007).
-fn local_shading(bsdf: &Bsdf, surface: &SurfacePoint, wo: Vec3, wi: Vec3) -> Vec3 {
-    let alphas = match bsdf {
-        Bsdf::Conductor {
-            alpha_x, alpha_y, ..
-        } => Some((*alpha_x, *alpha_y)),
-        Bsdf::RoughConductor(c) => Some(c.distribution.alphas()),
-        _ => None,
-    };
-    match alphas {
-        Some((alpha_x, alpha_y)) => {
-            let alpha = (alpha_x * alpha_y).sqrt().max(1e-3);
-            let exponent = (2.0 / (alpha * alpha) - 2.0).max(1.0);
-            let n = surface.shading_normal;
-            let mirror = 2.0 * wo.dot(n) * n - wo;
-            let cos_r = mirror.dot(wi).max(0.0);
-            bsdf.albedo() * (exponent + 2.0) / (2.0 * PI) * cos_r.powf(exponent)
+/// the exponent that matches the GGX alpha, n = 2 / alpha^2 - 2 (Walter et al. 2007). Prepared
+/// once per shading point (the BSDF's dispatch, albedo and mirror direction), then evaluated
+/// for each light.
+enum Lobe {
+    /// albedo / pi.
+    Lambert(Vec3),
+    Phong {
+        /// albedo (n + 2) / 2pi.
+        scale: Vec3,
+        exponent: f32,
+        mirror: Vec3,
+    },
+}
+
+impl Lobe {
+    fn new(bsdf: &Bsdf, normal: Vec3, wo: Vec3) -> Self {
+        let alphas = match bsdf {
+            Bsdf::Conductor {
+                alpha_x, alpha_y, ..
+            } => Some((*alpha_x, *alpha_y)),
+            Bsdf::RoughConductor(c) => Some(c.distribution.alphas()),
+            _ => None,
+        };
+        match alphas {
+            Some((alpha_x, alpha_y)) => {
+                let alpha = (alpha_x * alpha_y).sqrt().max(1e-3);
+                let exponent = (2.0 / (alpha * alpha) - 2.0).max(1.0);
+                Lobe::Phong {
+                    scale: bsdf.albedo() * (exponent + 2.0) / (2.0 * PI),
+                    exponent,
+                    mirror: 2.0 * wo.dot(normal) * normal - wo,
+                }
+            }
+            None => Lobe::Lambert(bsdf.albedo() / PI),
         }
-        None => bsdf.albedo() / PI,
+    }
+
+    /// The lobe's value towards the light direction `wi`.
+    fn eval(&self, wi: Vec3) -> Vec3 {
+        match *self {
+            Lobe::Lambert(f) => f,
+            Lobe::Phong {
+                scale,
+                exponent,
+                mirror,
+            } => scale * mirror.dot(wi).max(0.0).powf(exponent),
+        }
     }
 }
 
@@ -143,7 +177,6 @@ mod tests {
     use super::*;
     use crate::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet};
     use crate::bsdf::{ConductorFresnel, RoughConductor};
-    use glam::Vec2;
 
     /// Every rough conductor gets the Phong lobe (LuxRender's `metal` and Mitsuba's conductors
     /// are `RoughConductor`s): far brighter towards the mirror direction than 60 degrees off it,
@@ -159,20 +192,12 @@ mod tests {
             distribution: Microfacet::new(DistributionKind::Beckmann, 0.1, 0.1),
             masking: Masking::Separable,
         });
-        let surface = SurfacePoint {
-            position: Vec3::ZERO,
-            geometric_normal: Vec3::Z,
-            shading_normal: Vec3::Z,
-            uv: Vec2::ZERO,
-            material: 0,
-            emitter: 0,
-            prim: 0,
-        };
         let wo = Vec3::new(0.6, 0.0, 0.8);
         let mirror = Vec3::new(-0.6, 0.0, 0.8);
         let off = Vec3::new(0.3, 0.0, 1.0).normalize();
-        let towards = local_shading(&bsdf, &surface, wo, mirror).x;
-        let away = local_shading(&bsdf, &surface, wo, off).x;
+        let lobe = Lobe::new(&bsdf, Vec3::Z, wo);
+        let towards = lobe.eval(mirror).x;
+        let away = lobe.eval(off).x;
         assert!(towards > 100.0 * away, "{towards} vs {away}");
     }
 }

@@ -59,6 +59,12 @@ impl Light {
         }
     }
 
+    /// A light of one position or one direction (pbrt-v4's `IsDeltaLight`): its `sample`
+    /// ignores `u`.
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Distant(_))
+    }
+
     /// `sample` for next-event estimation that MIS combines with BSDF sampling: the
     /// environment then samples its compensated distribution ([`Environment::sample_for_mis`]).
     #[inline]
@@ -287,4 +293,45 @@ pub fn build_light_table(
         emitter_light,
         environment,
     ));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spot::SpotFalloff;
+
+    /// `is_delta` says which lights' samples do not depend on `u` (the ray caster draws no
+    /// random numbers for those): the same sample from two different `u`, and a different one
+    /// from a sun disc of finite size.
+    #[test]
+    fn delta_lights_are_those_whose_samples_ignore_u() {
+        let p = Vec3::new(0.1, -0.2, 0.3);
+        let lights = [
+            Light::Point(PointLight {
+                position: Vec3::new(1.0, 2.0, 3.0),
+                intensity: Vec3::ONE,
+            }),
+            Light::Spot(SpotLight::new(
+                Vec3::new(0.0, 0.0, 4.0),
+                Vec3::NEG_Z,
+                Vec3::ONE,
+                (60.0, 10.0),
+                SpotFalloff::SmoothCosine,
+            )),
+            Light::Distant(DistantLight {
+                direction_to_light: Vec3::Z,
+                radiance: Vec3::ONE,
+            }),
+            Light::SunDisc(SunDiscLight::new(Vec3::Z, Vec3::ONE, 0.2)),
+        ];
+        for light in &lights {
+            let a = light.sample(p, Vec2::new(0.1, 0.7)).expect("a sample");
+            let b = light.sample(p, Vec2::new(0.8, 0.3)).expect("a sample");
+            assert_eq!(
+                light.is_delta(),
+                a.wi == b.wi && a.radiance == b.radiance,
+                "{light:?}"
+            );
+        }
+    }
 }
