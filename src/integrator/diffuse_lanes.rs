@@ -336,3 +336,137 @@ fn power_heuristic(f_pdf: F8, g_pdf: F8) -> F8 {
         .is_infinite()
         .select(F8::splat(1.0), sum.gt(zero).select(f2 / sum, zero))
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::*;
+    use crate::bsdf::frame::Frame;
+    use crate::bsdf::{Bsdf, unit_direction};
+    use crate::math::offset_ray_origin;
+    use crate::sampling::PathRng;
+    use crate::sampling::warp::{power_heuristic, uniform_sphere};
+
+    /// A vertex with random normals, directions, light and sample, and now and then what the
+    /// scalar path treats as a special case: no light, a delta light, a zero `wo`, the disk's
+    /// centre, a NaN or out-of-range sample.
+    fn random_vertex(rng: &mut PathRng, i: usize) -> DiffuseVertex {
+        let n = uniform_sphere(rng.next_2d());
+        let geometric_normal = (n + 0.4 * uniform_sphere(rng.next_2d())).normalize();
+        let wo = match i % 13 {
+            0 => Vec3::ZERO,
+            _ => uniform_sphere(rng.next_2d()) * (0.5 + rng.next_f32()),
+        };
+        let light = (i % 5 != 0).then(|| LightPoint {
+            wi: uniform_sphere(rng.next_2d()),
+            distance: 10.0 * rng.next_f32(),
+            radiance: Vec3::new(rng.next_f32(), rng.next_f32(), 2.0 * rng.next_f32()),
+            pdf: 2.0 * rng.next_f32(),
+            delta: i % 7 == 0,
+        });
+        let u = match i % 17 {
+            0 => Vec2::splat(0.5),
+            1 => Vec2::new(f32::NAN, 1.0),
+            2 => Vec2::new(-0.25, 0.75),
+            _ => rng.next_2d(),
+        };
+        DiffuseVertex {
+            position: 20.0 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5),
+            geometric_normal,
+            shading_normal: n,
+            wo,
+            reflectance: Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+            throughput: Vec3::new(rng.next_f32(), 1.0, 3.0 * rng.next_f32()),
+            light,
+            u,
+        }
+    }
+
+    fn bits(v: Vec3) -> [u32; 3] {
+        v.to_array().map(f32::to_bits)
+    }
+
+    /// The scalar path's operations on one Lambertian vertex (as `shade_scattering` does them)
+    /// against the lanes, bit for bit, in both compilations of the kernel.
+    #[test]
+    fn lanes_match_the_scalar_vertex_bit_for_bit() {
+        let mut rng = PathRng::new(7, 0, 0);
+        let (mut shadows, mut scattered) = (0, 0);
+        for group in 0..500 {
+            let vertices: Vec<DiffuseVertex> = (0..LANES)
+                .map(|lane| random_vertex(&mut rng, group * LANES + lane))
+                .collect();
+            let mut queue = DiffuseQueue::default();
+            for (lane, vertex) in vertices.iter().enumerate() {
+                queue.push(lane, *vertex);
+            }
+            let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
+            finish_lanes(&queue.inputs, &mut baseline);
+            vex::run(|| finish_lanes(&queue.inputs, &mut dispatched));
+            for (lane, v) in vertices.iter().enumerate() {
+                for out in [&baseline, &dispatched] {
+                    let frame = Frame::from_z(v.shading_normal);
+                    let wo_local = frame.to_local(v.wo);
+                    let wo_unit = unit_direction(wo_local);
+                    assert_eq!(out.sound.lane(lane), wo_unit.is_some(), "lane {lane}");
+                    let Some(wo_unit) = wo_unit else { continue };
+                    let bsdf = Bsdf::Lambertian {
+                        reflectance: v.reflectance,
+                    };
+                    let shadow = v.light.and_then(|light| {
+                        let wi_local = frame.to_local(light.wi);
+                        if light.wi.dot(v.geometric_normal) * wi_local.z <= 0.0 {
+                            return None;
+                        }
+                        let (f, bsdf_pdf) = bsdf.eval_and_pdf_unit_wo(wo_unit, wi_local);
+                        let f = f * wi_local.z.abs();
+                        if f == Vec3::ZERO {
+                            return None;
+                        }
+                        let weight = if light.delta {
+                            1.0
+                        } else {
+                            power_heuristic(1, light.pdf, 1, bsdf_pdf)
+                        };
+                        let contribution = v.throughput * f * light.radiance * weight / light.pdf;
+                        contribution.is_finite().then(|| {
+                            let origin =
+                                offset_ray_origin(v.position, v.geometric_normal, light.wi);
+                            (origin, light.distance * (1.0 - 1e-3), contribution)
+                        })
+                    });
+                    assert_eq!(out.has_shadow.lane(lane), shadow.is_some(), "lane {lane}");
+                    if let Some((origin, t_max, contribution)) = shadow {
+                        assert_eq!(bits(out.shadow_origin.get(lane)), bits(origin));
+                        assert_eq!(out.shadow_t_max.0[lane].to_bits(), t_max.to_bits());
+                        assert_eq!(bits(out.contribution.get(lane)), bits(contribution));
+                        shadows += 1;
+                    }
+                    let next = bsdf
+                        .sample_unit_wo(wo_unit, v.u, 0.5)
+                        .filter(|s| s.pdf > 0.0)
+                        .and_then(|s| {
+                            let wi = frame.to_world(s.wi);
+                            let reflects = s.wi.z * wo_local.z > 0.0;
+                            let ng = v.geometric_normal;
+                            let stays = wi.dot(ng) * v.wo.dot(ng) > 0.0;
+                            (reflects == stays).then_some((s, wi))
+                        });
+                    assert_eq!(out.scattered.lane(lane), next.is_some(), "lane {lane}");
+                    if let Some((s, wi)) = next {
+                        let throughput = v.throughput * (s.f * s.wi.z.abs() / s.pdf);
+                        assert_eq!(out.pdf.0[lane].to_bits(), s.pdf.to_bits());
+                        assert_eq!(bits(out.throughput.get(lane)), bits(throughput));
+                        assert_eq!(bits(out.direction.get(lane)), bits(wi));
+                        let origin = offset_ray_origin(v.position, v.geometric_normal, wi);
+                        assert_eq!(bits(out.origin.get(lane)), bits(origin));
+                        scattered += 1;
+                    }
+                }
+            }
+        }
+        // Both outcomes common, so the comparisons above were exercised.
+        assert!(shadows > 1000 && scattered > 1000, "{shadows} {scattered}");
+    }
+}
