@@ -198,36 +198,117 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
         inputs.wo,
     );
     let zero = F8::splat(0.0);
-    // `Frame::from_z` (Duff et al. 2017).
-    let sign = F8::splat(1.0).copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let fx = V8 {
-        x: 1.0 + sign * n.x * n.x * a,
-        y: sign * b,
-        z: -sign * n.x,
-    };
-    let fy = V8 {
-        x: b,
-        y: sign + n.y * n.y * a,
-        z: -n.y,
-    };
-    let to_local = |v: V8| V8 {
-        x: v.dot(fx),
-        y: v.dot(fy),
-        z: v.dot(n),
-    };
-    let wo_local = to_local(wo);
+    let frame = LaneFrame::from_z(n);
+    let wo_local = frame.to_local(wo);
     let (wo_unit, sound) = unit_direction(wo_local);
     out.sound = sound;
     // `Lambertian::eval`: R / pi where both directions are above the surface.
     let above = |wi_z: F8| wo_unit.z.gt(zero) & wi_z.gt(zero);
     let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
 
-    // Next-event estimation (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
-    // `density_or_zero`).
+    // Next-event estimation, unless no lane has a light sample (a scene lit by a constant sky
+    // alone); `has_shadow` then stays false.
+    if inputs.has_light.contains(&true) {
+        light_lanes(inputs, out, &frame, above);
+    }
+
+    // The next ray (`Bsdf::sample_unit_wo`: `canonical`, `sample_cosine_lobe`,
+    // `cosine_hemisphere`, `concentric_disk`).
+    let canonical = |x: F8| x.ge(zero).select(x.min(F8::splat(ONE_MINUS_EPSILON)), zero);
+    let (ox, oy) = (
+        2.0 * canonical(inputs.u[0]) - 1.0,
+        2.0 * canonical(inputs.u[1]) - 1.0,
+    );
+    let centre = ox.eq(zero) & oy.eq(zero);
+    let wide = ox.abs().gt(oy.abs());
+    let (sin, cos) = sin_cos_eighth_turn(FRAC_PI_4 * (wide.select(oy, ox) / wide.select(ox, oy)));
+    let radius = wide.select(ox, oy);
+    let dx = centre.select(zero, radius * wide.select(cos, sin));
+    let dy = centre.select(zero, radius * wide.select(sin, cos));
+    let s = V8 {
+        x: dx,
+        y: dy,
+        z: (1.0 - (dx * dx + dy * dy)).max(zero).sqrt(),
+    };
+    let sample_above = above(s.z);
+    let sample_f = sample_above.select_v(f_lambert, V8::default());
+    let sample_pdf = sample_above.select(s.z.max(zero) * FRAC_1_PI, zero);
+    let sampled = wo_unit.z.gt(zero) & sample_pdf.gt(zero) & sample_f.is_finite();
+    let wi = frame.to_world(s);
+    let reflects = (s.z * wo_local.z).gt(zero);
+    let stays = (wi.dot(ng) * wo.dot(ng)).gt(zero);
+    out.scattered = sampled & reflects.eq(stays);
+    out.pdf = sample_pdf;
+    let cos = s.z.abs();
+    out.throughput = inputs.throughput.mul(V8 {
+        x: sample_f.x * cos / sample_pdf,
+        y: sample_f.y * cos / sample_pdf,
+        z: sample_f.z * cos / sample_pdf,
+    });
+    out.origin = offset_ray_origin(p, ng, wi);
+    out.direction = wi;
+}
+
+/// `Frame` on lanes: the same operations in the same order.
+struct LaneFrame {
+    x: V8,
+    y: V8,
+    z: V8,
+}
+
+impl LaneFrame {
+    /// `Frame::from_z` (Duff et al. 2017).
+    #[inline(always)]
+    fn from_z(n: V8) -> Self {
+        let sign = F8::splat(1.0).copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Self {
+            x: V8 {
+                x: 1.0 + sign * n.x * n.x * a,
+                y: sign * b,
+                z: -sign * n.x,
+            },
+            y: V8 {
+                x: b,
+                y: sign + n.y * n.y * a,
+                z: -n.y,
+            },
+            z: n,
+        }
+    }
+
+    /// `Frame::to_local`.
+    #[inline(always)]
+    fn to_local(&self, v: V8) -> V8 {
+        V8 {
+            x: v.dot(self.x),
+            y: v.dot(self.y),
+            z: v.dot(self.z),
+        }
+    }
+
+    /// `Frame::to_world`: x v.x + y v.y + z v.z.
+    #[inline(always)]
+    fn to_world(&self, v: V8) -> V8 {
+        let (x, y, z) = (self.x, self.y, self.z);
+        V8 {
+            x: x.x * v.x + y.x * v.y + z.x * v.z,
+            y: x.y * v.x + y.y * v.y + z.y * v.z,
+            z: x.z * v.x + y.z * v.y + z.z * v.z,
+        }
+    }
+}
+
+/// Next-event estimation's lanes (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
+/// `density_or_zero`, the power heuristic, `ShadowRay::towards`).
+#[inline(always)]
+fn light_lanes(inputs: &Inputs, out: &mut Outputs, frame: &LaneFrame, above: impl Fn(F8) -> M8) {
+    let (ng, p) = (inputs.geometric_normal, inputs.position);
+    let zero = F8::splat(0.0);
+    let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
     let wi = inputs.light_wi;
-    let wi_local = to_local(wi);
+    let wi_local = frame.to_local(wi);
     let leaks = (wi.dot(ng) * wi_local.z).le(zero);
     let (wi_unit, wi_sound) = unit_direction(wi_local);
     let lit = wi_sound & above(wi_unit.z);
@@ -253,47 +334,6 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     // `ShadowRay::towards`.
     out.shadow_origin = offset_ray_origin(p, ng, wi);
     out.shadow_t_max = inputs.light_distance * (1.0 - 1e-3);
-
-    // The next ray (`Bsdf::sample_unit_wo`: `canonical`, `sample_cosine_lobe`,
-    // `cosine_hemisphere`, `concentric_disk`).
-    let canonical = |x: F8| x.ge(zero).select(x.min(F8::splat(ONE_MINUS_EPSILON)), zero);
-    let (ox, oy) = (
-        2.0 * canonical(inputs.u[0]) - 1.0,
-        2.0 * canonical(inputs.u[1]) - 1.0,
-    );
-    let centre = ox.eq(zero) & oy.eq(zero);
-    let wide = ox.abs().gt(oy.abs());
-    let (sin, cos) = sin_cos_eighth_turn(FRAC_PI_4 * (wide.select(oy, ox) / wide.select(ox, oy)));
-    let radius = wide.select(ox, oy);
-    let dx = centre.select(zero, radius * wide.select(cos, sin));
-    let dy = centre.select(zero, radius * wide.select(sin, cos));
-    let s = V8 {
-        x: dx,
-        y: dy,
-        z: (1.0 - (dx * dx + dy * dy)).max(zero).sqrt(),
-    };
-    let sample_above = above(s.z);
-    let sample_f = sample_above.select_v(f_lambert, V8::default());
-    let sample_pdf = sample_above.select(s.z.max(zero) * FRAC_1_PI, zero);
-    let sampled = wo_unit.z.gt(zero) & sample_pdf.gt(zero) & sample_f.is_finite();
-    // `Frame::to_world`.
-    let wi = V8 {
-        x: fx.x * s.x + fy.x * s.y + n.x * s.z,
-        y: fx.y * s.x + fy.y * s.y + n.y * s.z,
-        z: fx.z * s.x + fy.z * s.y + n.z * s.z,
-    };
-    let reflects = (s.z * wo_local.z).gt(zero);
-    let stays = (wi.dot(ng) * wo.dot(ng)).gt(zero);
-    out.scattered = sampled & reflects.eq(stays);
-    out.pdf = sample_pdf;
-    let cos = s.z.abs();
-    out.throughput = inputs.throughput.mul(V8 {
-        x: sample_f.x * cos / sample_pdf,
-        y: sample_f.y * cos / sample_pdf,
-        z: sample_f.z * cos / sample_pdf,
-    });
-    out.origin = offset_ray_origin(p, ng, wi);
-    out.direction = wi;
 }
 
 /// glam's `try_normalize` (`unit_direction`) as a value and a mask.

@@ -212,8 +212,9 @@ impl PathBlock<'_> {
         self.alive[i]
     }
 
-    /// Path `i`'s slots and its (emptied) shadow-ray slots.
-    #[inline]
+    /// Path `i`'s slots and its (emptied) shadow-ray slots. Always inlined: a call per path
+    /// cost about 70 instructions, most of them moving the fourteen references.
+    #[inline(always)]
     pub fn slots(&mut self, i: usize) -> (PathSlots<'_>, ShadowSlots<'_>) {
         let path = PathSlots {
             origin: &mut self.origin[i],
