@@ -398,12 +398,12 @@ mod tests {
             0 => Vec3::ZERO,
             _ => uniform_sphere(rng.next_2d()) * (0.5 + rng.next_f32()),
         };
-        let light = (i % 5 != 0).then(|| LightPoint {
+        let light = (!i.is_multiple_of(5)).then(|| LightPoint {
             wi: uniform_sphere(rng.next_2d()),
             distance: 10.0 * rng.next_f32(),
             radiance: Vec3::new(rng.next_f32(), rng.next_f32(), 2.0 * rng.next_f32()),
             pdf: 2.0 * rng.next_f32(),
-            delta: i % 7 == 0,
+            delta: i.is_multiple_of(7),
         });
         let u = match i % 17 {
             0 => Vec2::splat(0.5),

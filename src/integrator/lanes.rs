@@ -141,9 +141,15 @@ impl M8 {
     /// Lanes equal as masks (both true or both false).
     #[inline(always)]
     pub fn eq(self, other: Self) -> Self {
+        self.zip(other, |a, b| !(a ^ b))
+    }
+
+    /// `op` on the bits of each pair of lanes.
+    #[inline(always)]
+    fn zip(self, other: Self, op: impl Fn(u32, u32) -> u32) -> Self {
         let mut out = [0; LANES];
         for (lane, value) in out.iter_mut().enumerate() {
-            *value = !(self.0[lane] ^ other.0[lane]);
+            *value = op(self.0[lane], other.0[lane]);
         }
         M8(out)
     }
@@ -153,11 +159,7 @@ impl BitAnd for M8 {
     type Output = Self;
     #[inline(always)]
     fn bitand(self, other: Self) -> Self {
-        let mut out = [0; LANES];
-        for (lane, value) in out.iter_mut().enumerate() {
-            *value = self.0[lane] & other.0[lane];
-        }
-        M8(out)
+        self.zip(other, |a, b| a & b)
     }
 }
 
@@ -165,11 +167,7 @@ impl BitOr for M8 {
     type Output = Self;
     #[inline(always)]
     fn bitor(self, other: Self) -> Self {
-        let mut out = [0; LANES];
-        for (lane, value) in out.iter_mut().enumerate() {
-            *value = self.0[lane] | other.0[lane];
-        }
-        M8(out)
+        self.zip(other, |a, b| a | b)
     }
 }
 
@@ -177,11 +175,7 @@ impl Not for M8 {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
-        let mut out = [0; LANES];
-        for (lane, value) in out.iter_mut().enumerate() {
-            *value = !self.0[lane];
-        }
-        M8(out)
+        self.zip(self, |a, _| !a)
     }
 }
 
