@@ -22,7 +22,7 @@ mod plane;
 mod primitive;
 mod sphere;
 mod triangle;
-mod vex;
+pub(crate) mod vex;
 
 use std::time::{Duration, Instant};
 

@@ -149,7 +149,7 @@ impl BsdfSample {
 }
 
 /// The largest f32 below 1, the upper bound of a canonical sample.
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+pub(crate) const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// A sample coordinate clamped to [0, 1); NaN becomes 0.
 fn canonical(x: f32) -> f32 {

@@ -15,6 +15,8 @@
 
 pub mod accumulate;
 pub mod batch;
+mod diffuse_lanes;
+mod lanes;
 pub mod shade_path;
 pub mod shade_raycast;
 pub mod shading;

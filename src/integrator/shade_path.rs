@@ -6,12 +6,14 @@ use bevy_ecs::prelude::*;
 use glam::Vec3;
 
 use super::batch::{PathBatch, ShadowBatch};
-use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
+use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LightPoint};
+use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_blocks};
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, unit_direction};
 use crate::light::LightTable;
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
+use crate::shape::surface::SurfacePoint;
 
 pub fn shade_path_vertices(
     inputs: ShadingInputs,
@@ -19,19 +21,40 @@ pub fn shade_path_vertices(
     mut shadows: ResMut<ShadowBatch>,
 ) {
     let scene = inputs.scene();
-    shade_live_paths(
-        inputs.hits(),
-        &mut batch,
-        &mut shadows,
-        |hit, path, mut shadow| {
-            if let Some(ray) = shade_vertex(&scene, hit, path) {
-                shadow.emit(0, ray);
+    shade_live_blocks(inputs.hits(), &mut batch, &mut shadows, |mut block| {
+        // The block's diffuse vertices wait in a queue, in block order, and are finished
+        // eight at a time; every other vertex is shaded where it stands. Each path's result
+        // depends on its own slots only, so the order of the work changes no bit.
+        let mut diffuse = DiffuseQueue::default();
+        let hits = block.hits;
+        for (i, hit) in hits.iter().enumerate() {
+            if !block.is_alive(i) {
+                continue;
             }
-        },
-    );
+            let (path, mut shadow) = block.slots(i);
+            match shade_vertex(&scene, hit.as_ref(), path) {
+                Vertex::Shaded(Some(ray)) => shadow.emit(0, ray),
+                Vertex::Shaded(None) => {}
+                Vertex::Diffuse(vertex) => {
+                    diffuse.push(i, vertex);
+                    if diffuse.is_full() {
+                        diffuse.finish(&mut block, scene.rr_depth);
+                    }
+                }
+            }
+        }
+        diffuse.finish(&mut block, scene.rr_depth);
+    });
 }
 
-fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option<ShadowRay> {
+/// What became of a path vertex: shaded (with its shadow ray, if any), or a Lambertian vertex
+/// whose random numbers and light sample are drawn, left for [`DiffuseQueue::finish`].
+enum Vertex {
+    Shaded(Option<ShadowRay>),
+    Diffuse(DiffuseVertex),
+}
+
+fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Vertex {
     let lights = scene.lights;
     // Mitsuba 3.9 with `hide_emitters` drops a camera path whose first surface (past null ones)
     // is an emitter, its reflection included, and one that leaves the scene unscattered.
@@ -52,7 +75,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
             }
         }
         *path.alive = false;
-        return None;
+        return Vertex::Shaded(None);
     };
     let mut surface = scene
         .geometry
@@ -60,7 +83,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
     let wo = -*path.direction;
     if hidden && surface.emitter != NO_EMITTER {
         *path.alive = false;
-        return None;
+        return Vertex::Shaded(None);
     }
 
     if surface.emitter != NO_EMITTER
@@ -78,19 +101,34 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
     let choice = path.rng.next_f32();
     let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
         path.pass_through(&surface);
-        return None;
+        return Vertex::Shaded(None);
     };
     let bsdf: &Bsdf = &bsdf;
     if *path.depth >= scene.max_depth {
         *path.alive = false;
-        return None;
+        return Vertex::Shaded(None);
     }
     let one_sided = scene.materials.is_one_sided(surface.material);
     if !face_forward(&mut surface, bsdf, wo, one_sided) {
         *path.alive = false;
-        return None;
+        return Vertex::Shaded(None);
     }
-    let frame = scene.shading_frame(&surface, bsdf);
+    if let Bsdf::Lambertian { reflectance } = *bsdf {
+        return Vertex::Diffuse(diffuse_vertex(scene, &surface, reflectance, wo, &mut path));
+    }
+    Vertex::Shaded(shade_scattering(scene, &surface, bsdf, wo, path))
+}
+
+/// The light sample and the BSDF sample at a scattering vertex, Russian roulette after.
+fn shade_scattering(
+    scene: &Scene,
+    surface: &SurfacePoint,
+    bsdf: &Bsdf,
+    wo: Vec3,
+    mut path: PathSlots,
+) -> Option<ShadowRay> {
+    let lights = scene.lights;
+    let frame = scene.shading_frame(surface, bsdf);
     let wo_local = frame.to_local(wo);
     // Normalised once here for both the light sample's evaluation and the BSDF sample (each
     // normalised it before, to the same bits); a degenerate one ends the path as they did.
@@ -127,7 +165,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
                     };
                     let contribution = *path.throughput * f * sample.radiance * weight / light_pdf;
                     contribution.is_finite().then(|| {
-                        ShadowRay::towards(&surface, sample.wi, sample.distance, contribution)
+                        ShadowRay::towards(surface, sample.wi, sample.distance, contribution)
                     })
                 });
         }
@@ -147,7 +185,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
                 return shadow;
             }
             *path.scatter_pdf = if sample.delta { 0.0 } else { sample.pdf };
-            path.scatter(&surface, wi, sample.f * sample.wi.z.abs() / sample.pdf);
+            path.scatter(surface, wi, sample.f * sample.wi.z.abs() / sample.pdf);
             sample.delta
         }
         _ => {
@@ -156,14 +194,55 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
         }
     };
 
-    // Russian roulette (pbrt-v4 §13.4.3): a path whose throughput (the product of the BSDF
-    // weights f cos / pdf, each the surface's albedo in the sampled direction) fell to t < 1
-    // survives with probability min(t, 0.95) and is reweighted by its inverse: unbiased, and
-    // a dim path's expected cost falls with its contribution (Mitsuba 3's rule). Not after a
-    // delta bounce: the throughput inside a dielectric carries 1 / eta^2, which leaving undoes,
-    // so a specular chain is judged where it ends.
+    if !delta {
+        russian_roulette(&mut path, scene.rr_depth);
+    }
+    shadow
+}
+
+/// A Lambertian vertex's random numbers and light sample, drawn in the order the scalar path
+/// draws them (light choice, light point, lobe, direction), for [`DiffuseQueue::finish`].
+fn diffuse_vertex(
+    scene: &Scene,
+    surface: &SurfacePoint,
+    reflectance: Vec3,
+    wo: Vec3,
+    path: &mut PathSlots,
+) -> DiffuseVertex {
+    let lights = scene.lights;
+    let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
+    let light = lights.choose(u_choose).and_then(|(index, probability)| {
+        let sample = lights.lights[index].sample_for_mis(surface.position, u_light)?;
+        (sample.pdf > 0.0 && sample.radiance != Vec3::ZERO).then_some(LightPoint {
+            wi: sample.wi,
+            distance: sample.distance,
+            radiance: sample.radiance,
+            pdf: probability * sample.pdf,
+            delta: sample.delta,
+        })
+    });
+    let (_u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
+    DiffuseVertex {
+        position: surface.position,
+        geometric_normal: surface.geometric_normal,
+        shading_normal: surface.shading_normal,
+        wo,
+        reflectance,
+        throughput: *path.throughput,
+        light,
+        u: u_direction,
+    }
+}
+
+/// Russian roulette (pbrt-v4 §13.4.3): a path whose throughput (the product of the BSDF
+/// weights f cos / pdf, each the surface's albedo in the sampled direction) fell to t < 1
+/// survives with probability min(t, 0.95) and is reweighted by its inverse: unbiased, and a dim
+/// path's expected cost falls with its contribution (Mitsuba 3's rule). Called only after a
+/// non-delta bounce: the throughput inside a dielectric carries 1 / eta^2, which leaving
+/// undoes, so a specular chain is judged where it ends.
+pub fn russian_roulette(path: &mut PathSlots, rr_depth: u32) {
     let max_throughput = path.throughput.max_element();
-    if !delta && *path.depth > scene.rr_depth && max_throughput < 1.0 {
+    if *path.depth > rr_depth && max_throughput < 1.0 {
         let q = (1.0 - max_throughput).max(0.05);
         if path.rng.next_f32() < q {
             *path.alive = false;
@@ -171,7 +250,6 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Option
             *path.throughput /= 1.0 - q;
         }
     }
-    shadow
 }
 
 /// The MIS weight of light found by BSDF sampling: 1 after a camera ray or a delta lobe (light

@@ -1,0 +1,512 @@
+//! Lambertian path vertices finished eight at a time: the shading frame, next-event
+//! estimation's BSDF value, density and MIS weight, the cosine-weighted sample of the next
+//! direction and the throughput update, with one lane per path.
+//!
+//! pbrt-v4 sorts a wavefront's hits into one queue per material kind and runs each kind's
+//! kernel over its queue (`WavefrontPathIntegrator::EvaluateMaterialsAndBSDFs`); here a block of
+//! paths queues its Lambertian vertices, in order, once their light sample and random numbers
+//! are drawn (per path: they depend on the light and on the path's stream), and this module
+//! finishes them in groups of [`LANES`]. The kernel is a loop over the lanes whose body has no
+//! branches (both sides of each choice computed, one selected), so the compiler turns it into
+//! eight-wide vector instructions; it is compiled a second time for AVX2 and picked at run time
+//! ([`crate::accel::vex::run`]). Every lane performs the scalar path's operations in the same
+//! order (IEEE sums, products, quotients and square roots, no fused multiply-add), so the
+//! image is the same to the bit as one vertex at a time, at any width (tested).
+
+use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
+
+use glam::{Vec2, Vec3};
+
+use super::lanes::{F8, LANES, M8, V8};
+use super::shade_path::russian_roulette;
+use super::shading::{PathBlock, ShadowRay};
+use crate::accel::vex;
+use crate::bsdf::ONE_MINUS_EPSILON;
+use crate::sampling::warp::sin_cos_eighth_turn;
+
+/// A light sample for a vertex: the direction and distance to the light point, its radiance
+/// and the density of choosing it (light selection times the light's own density).
+#[derive(Clone, Copy, Debug)]
+pub struct LightPoint {
+    pub wi: Vec3,
+    pub distance: f32,
+    pub radiance: Vec3,
+    pub pdf: f32,
+    /// A point or directional light: weight 1, no MIS.
+    pub delta: bool,
+}
+
+/// What finishing a Lambertian vertex needs: the surface (normals turned to face `wo`), the
+/// reflectance, the path's throughput, its light sample and its 2D sample for the direction.
+#[derive(Clone, Copy, Debug)]
+pub struct DiffuseVertex {
+    pub position: Vec3,
+    pub geometric_normal: Vec3,
+    pub shading_normal: Vec3,
+    pub wo: Vec3,
+    pub reflectance: Vec3,
+    pub throughput: Vec3,
+    pub light: Option<LightPoint>,
+    pub u: Vec2,
+}
+
+impl V8 {
+    #[inline(always)]
+    fn set(&mut self, lane: usize, v: Vec3) {
+        self.x.0[lane] = v.x;
+        self.y.0[lane] = v.y;
+        self.z.0[lane] = v.z;
+    }
+
+    #[inline(always)]
+    fn get(&self, lane: usize) -> Vec3 {
+        Vec3::new(self.x.0[lane], self.y.0[lane], self.z.0[lane])
+    }
+}
+
+/// The queued vertices, one lane each (structure of arrays).
+#[derive(Clone, Copy, Default)]
+struct Inputs {
+    position: V8,
+    geometric_normal: V8,
+    shading_normal: V8,
+    wo: V8,
+    reflectance: V8,
+    throughput: V8,
+    /// The light sample's fields; `has_light` false where there is none (the other fields
+    /// then hold harmless values).
+    has_light: [bool; LANES],
+    light_wi: V8,
+    light_distance: F8,
+    light_radiance: V8,
+    light_pdf: F8,
+    light_delta: [bool; LANES],
+    u: [F8; 2],
+}
+
+/// The kernel's results, one lane each.
+#[derive(Clone, Copy, Default)]
+struct Outputs {
+    /// The vertex's frame and `wo` were sound (else the path ends with nothing).
+    sound: M8,
+    has_shadow: M8,
+    shadow_origin: V8,
+    shadow_t_max: F8,
+    contribution: V8,
+    /// The BSDF sample made a next ray (else the path ends, keeping its shadow ray).
+    scattered: M8,
+    throughput: V8,
+    origin: V8,
+    direction: V8,
+    pdf: F8,
+}
+
+/// A block's Lambertian vertices waiting to be finished, with their slots in the block.
+#[derive(Default)]
+pub struct DiffuseQueue {
+    len: usize,
+    slots: [usize; LANES],
+    inputs: Inputs,
+}
+
+impl DiffuseQueue {
+    pub fn is_full(&self) -> bool {
+        self.len == LANES
+    }
+
+    /// Queues the vertex of the block's path `slot`.
+    pub fn push(&mut self, slot: usize, vertex: DiffuseVertex) {
+        let (lane, inputs) = (self.len, &mut self.inputs);
+        self.slots[lane] = slot;
+        inputs.position.set(lane, vertex.position);
+        inputs.geometric_normal.set(lane, vertex.geometric_normal);
+        inputs.shading_normal.set(lane, vertex.shading_normal);
+        inputs.wo.set(lane, vertex.wo);
+        inputs.reflectance.set(lane, vertex.reflectance);
+        inputs.throughput.set(lane, vertex.throughput);
+        let light = vertex.light.unwrap_or(LightPoint {
+            wi: Vec3::Z,
+            distance: 0.0,
+            radiance: Vec3::ZERO,
+            pdf: 1.0,
+            delta: false,
+        });
+        inputs.has_light[lane] = vertex.light.is_some();
+        inputs.light_wi.set(lane, light.wi);
+        inputs.light_distance.0[lane] = light.distance;
+        inputs.light_radiance.set(lane, light.radiance);
+        inputs.light_pdf.0[lane] = light.pdf;
+        inputs.light_delta[lane] = light.delta;
+        inputs.u[0].0[lane] = vertex.u.x;
+        inputs.u[1].0[lane] = vertex.u.y;
+        self.len += 1;
+    }
+
+    /// Finishes the queued vertices into their paths' slots in `block` (shadow ray, next ray,
+    /// Russian roulette after `rr_depth` bounces) and empties the queue. Lanes past the
+    /// queue's length compute on stale inputs and are not read.
+    pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
+        let mut out = Outputs::default();
+        vex::run(|| finish_lanes(&self.inputs, &mut out));
+        for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
+            let (mut path, mut shadow) = block.slots(slot);
+            if !out.sound.lane(lane) {
+                *path.alive = false;
+                continue;
+            }
+            if out.has_shadow.lane(lane) {
+                shadow.emit(
+                    0,
+                    ShadowRay {
+                        origin: out.shadow_origin.get(lane),
+                        direction: self.inputs.light_wi.get(lane),
+                        t_max: out.shadow_t_max.0[lane],
+                        contribution: out.contribution.get(lane),
+                    },
+                );
+            }
+            if !out.scattered.lane(lane) {
+                *path.alive = false;
+                continue;
+            }
+            // `PathSlots::scatter`, its values computed by the kernel.
+            *path.scatter_pdf = out.pdf.0[lane];
+            *path.throughput = out.throughput.get(lane);
+            *path.origin = out.origin.get(lane);
+            *path.direction = out.direction.get(lane);
+            *path.vertex = self.inputs.position.get(lane);
+            *path.depth += 1;
+            if !path.throughput.is_finite() || *path.throughput == Vec3::ZERO {
+                *path.alive = false;
+            }
+            russian_roulette(&mut path, rr_depth);
+        }
+        self.len = 0;
+    }
+}
+
+/// The lanes of [`DiffuseQueue::finish`]: for each, the operations of `shade_scattering` on a
+/// `Bsdf::Lambertian` (and of the functions it calls, named at each step) in their order, both
+/// sides of each branch computed and one selected. Inlined into both compilations of
+/// [`vex::run`].
+#[inline(always)]
+fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
+    let (n, ng, p, wo) = (
+        inputs.shading_normal,
+        inputs.geometric_normal,
+        inputs.position,
+        inputs.wo,
+    );
+    let zero = F8::splat(0.0);
+    let frame = LaneFrame::from_z(n);
+    let wo_local = frame.to_local(wo);
+    let (wo_unit, sound) = unit_direction(wo_local);
+    out.sound = sound;
+    // `Lambertian::eval`: R / pi where both directions are above the surface.
+    let above = |wi_z: F8| wo_unit.z.gt(zero) & wi_z.gt(zero);
+    let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
+
+    // Next-event estimation, unless no lane has a light sample (a scene lit by a constant sky
+    // alone); `has_shadow` then stays false.
+    if inputs.has_light.contains(&true) {
+        light_lanes(inputs, out, &frame, above);
+    }
+
+    // The next ray (`Bsdf::sample_unit_wo`: `canonical`, `sample_cosine_lobe`,
+    // `cosine_hemisphere`, `concentric_disk`).
+    let canonical = |x: F8| x.ge(zero).select(x.min(F8::splat(ONE_MINUS_EPSILON)), zero);
+    let (ox, oy) = (
+        2.0 * canonical(inputs.u[0]) - 1.0,
+        2.0 * canonical(inputs.u[1]) - 1.0,
+    );
+    let centre = ox.eq(zero) & oy.eq(zero);
+    let wide = ox.abs().gt(oy.abs());
+    let (sin, cos) = sin_cos_eighth_turn(FRAC_PI_4 * (wide.select(oy, ox) / wide.select(ox, oy)));
+    let radius = wide.select(ox, oy);
+    let dx = centre.select(zero, radius * wide.select(cos, sin));
+    let dy = centre.select(zero, radius * wide.select(sin, cos));
+    let s = V8 {
+        x: dx,
+        y: dy,
+        z: (1.0 - (dx * dx + dy * dy)).max(zero).sqrt(),
+    };
+    let sample_above = above(s.z);
+    let sample_f = sample_above.select_v(f_lambert, V8::default());
+    let sample_pdf = sample_above.select(s.z.max(zero) * FRAC_1_PI, zero);
+    let sampled = wo_unit.z.gt(zero) & sample_pdf.gt(zero) & sample_f.is_finite();
+    let wi = frame.to_world(s);
+    let reflects = (s.z * wo_local.z).gt(zero);
+    let stays = (wi.dot(ng) * wo.dot(ng)).gt(zero);
+    out.scattered = sampled & reflects.eq(stays);
+    out.pdf = sample_pdf;
+    let cos = s.z.abs();
+    out.throughput = inputs.throughput.mul(V8 {
+        x: sample_f.x * cos / sample_pdf,
+        y: sample_f.y * cos / sample_pdf,
+        z: sample_f.z * cos / sample_pdf,
+    });
+    out.origin = offset_ray_origin(p, ng, wi);
+    out.direction = wi;
+}
+
+/// `Frame` on lanes: the same operations in the same order.
+struct LaneFrame {
+    x: V8,
+    y: V8,
+    z: V8,
+}
+
+impl LaneFrame {
+    /// `Frame::from_z` (Duff et al. 2017).
+    #[inline(always)]
+    fn from_z(n: V8) -> Self {
+        let sign = F8::splat(1.0).copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Self {
+            x: V8 {
+                x: 1.0 + sign * n.x * n.x * a,
+                y: sign * b,
+                z: -sign * n.x,
+            },
+            y: V8 {
+                x: b,
+                y: sign + n.y * n.y * a,
+                z: -n.y,
+            },
+            z: n,
+        }
+    }
+
+    /// `Frame::to_local`.
+    #[inline(always)]
+    fn to_local(&self, v: V8) -> V8 {
+        V8 {
+            x: v.dot(self.x),
+            y: v.dot(self.y),
+            z: v.dot(self.z),
+        }
+    }
+
+    /// `Frame::to_world`: x v.x + y v.y + z v.z.
+    #[inline(always)]
+    fn to_world(&self, v: V8) -> V8 {
+        let (x, y, z) = (self.x, self.y, self.z);
+        V8 {
+            x: x.x * v.x + y.x * v.y + z.x * v.z,
+            y: x.y * v.x + y.y * v.y + z.y * v.z,
+            z: x.z * v.x + y.z * v.y + z.z * v.z,
+        }
+    }
+}
+
+/// Next-event estimation's lanes (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
+/// `density_or_zero`, the power heuristic, `ShadowRay::towards`).
+#[inline(always)]
+fn light_lanes(inputs: &Inputs, out: &mut Outputs, frame: &LaneFrame, above: impl Fn(F8) -> M8) {
+    let (ng, p) = (inputs.geometric_normal, inputs.position);
+    let zero = F8::splat(0.0);
+    let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
+    let wi = inputs.light_wi;
+    let wi_local = frame.to_local(wi);
+    let leaks = (wi.dot(ng) * wi_local.z).le(zero);
+    let (wi_unit, wi_sound) = unit_direction(wi_local);
+    let lit = wi_sound & above(wi_unit.z);
+    let f = (lit & f_lambert.is_finite()).select_v(f_lambert, V8::default());
+    let pdf = wi_unit.z.max(zero) * FRAC_1_PI;
+    let bsdf_pdf = (lit & pdf.is_finite() & pdf.gt(zero)).select(pdf, zero);
+    let f = f.scale(wi_local.z.abs());
+    let light_pdf = inputs.light_pdf;
+    let weight =
+        M8::from(inputs.light_delta).select(F8::splat(1.0), power_heuristic(light_pdf, bsdf_pdf));
+    let contribution = inputs
+        .throughput
+        .mul(f)
+        .mul(inputs.light_radiance)
+        .scale(weight);
+    let contribution = V8 {
+        x: contribution.x / light_pdf,
+        y: contribution.y / light_pdf,
+        z: contribution.z / light_pdf,
+    };
+    out.has_shadow = M8::from(inputs.has_light) & !leaks & !f.is_zero() & contribution.is_finite();
+    out.contribution = contribution;
+    // `ShadowRay::towards`.
+    out.shadow_origin = offset_ray_origin(p, ng, wi);
+    out.shadow_t_max = inputs.light_distance * (1.0 - 1e-3);
+}
+
+/// glam's `try_normalize` (`unit_direction`) as a value and a mask.
+#[inline(always)]
+fn unit_direction(v: V8) -> (V8, M8) {
+    let rcp = 1.0 / v.dot(v).sqrt();
+    (v.scale(rcp), rcp.is_finite() & rcp.gt(F8::splat(0.0)))
+}
+
+/// `math::offset_ray_origin` per lane.
+#[inline(always)]
+fn offset_ray_origin(p: V8, geometric_normal: V8, w: V8) -> V8 {
+    // glam's `max_element`: `if a > b { a } else { b }`, z and y first.
+    let max = |a: F8, b: F8| a.gt(b).select(a, b);
+    let largest = max(p.x.abs(), max(p.y.abs(), p.z.abs()));
+    let scale = 1e-4 * (1.0 + largest);
+    let offset = geometric_normal.scale(scale);
+    let below = w.dot(geometric_normal).lt(F8::splat(0.0));
+    below.select_v(
+        V8 {
+            x: p.x - offset.x,
+            y: p.y - offset.y,
+            z: p.z - offset.z,
+        },
+        V8 {
+            x: p.x + offset.x,
+            y: p.y + offset.y,
+            z: p.z + offset.z,
+        },
+    )
+}
+
+/// `warp::power_heuristic(1, f_pdf, 1, g_pdf)` per lane.
+#[inline(always)]
+fn power_heuristic(f_pdf: F8, g_pdf: F8) -> F8 {
+    let (f2, g2) = (f_pdf * f_pdf, g_pdf * g_pdf);
+    let sum = f2 + g2;
+    let zero = F8::splat(0.0);
+    f_pdf
+        .is_infinite()
+        .select(F8::splat(1.0), sum.gt(zero).select(f2 / sum, zero))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::*;
+    use crate::bsdf::frame::Frame;
+    use crate::bsdf::{Bsdf, unit_direction};
+    use crate::math::offset_ray_origin;
+    use crate::sampling::PathRng;
+    use crate::sampling::warp::{power_heuristic, uniform_sphere};
+
+    /// A vertex with random normals, directions, light and sample, and now and then what the
+    /// scalar path treats as a special case: no light, a delta light, a zero `wo`, the disk's
+    /// centre, a NaN or out-of-range sample.
+    fn random_vertex(rng: &mut PathRng, i: usize) -> DiffuseVertex {
+        let n = uniform_sphere(rng.next_2d());
+        let geometric_normal = (n + 0.4 * uniform_sphere(rng.next_2d())).normalize();
+        let wo = match i % 13 {
+            0 => Vec3::ZERO,
+            _ => uniform_sphere(rng.next_2d()) * (0.5 + rng.next_f32()),
+        };
+        let light = (!i.is_multiple_of(5)).then(|| LightPoint {
+            wi: uniform_sphere(rng.next_2d()),
+            distance: 10.0 * rng.next_f32(),
+            radiance: Vec3::new(rng.next_f32(), rng.next_f32(), 2.0 * rng.next_f32()),
+            pdf: 2.0 * rng.next_f32(),
+            delta: i.is_multiple_of(7),
+        });
+        let u = match i % 17 {
+            0 => Vec2::splat(0.5),
+            1 => Vec2::new(f32::NAN, 1.0),
+            2 => Vec2::new(-0.25, 0.75),
+            _ => rng.next_2d(),
+        };
+        DiffuseVertex {
+            position: 20.0 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5),
+            geometric_normal,
+            shading_normal: n,
+            wo,
+            reflectance: Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+            throughput: Vec3::new(rng.next_f32(), 1.0, 3.0 * rng.next_f32()),
+            light,
+            u,
+        }
+    }
+
+    fn bits(v: Vec3) -> [u32; 3] {
+        v.to_array().map(f32::to_bits)
+    }
+
+    /// The scalar path's operations on one Lambertian vertex (as `shade_scattering` does them)
+    /// against the lanes, bit for bit, in both compilations of the kernel.
+    #[test]
+    fn lanes_match_the_scalar_vertex_bit_for_bit() {
+        let mut rng = PathRng::new(7, 0, 0);
+        let (mut shadows, mut scattered) = (0, 0);
+        for group in 0..500 {
+            let vertices: Vec<DiffuseVertex> = (0..LANES)
+                .map(|lane| random_vertex(&mut rng, group * LANES + lane))
+                .collect();
+            let mut queue = DiffuseQueue::default();
+            for (lane, vertex) in vertices.iter().enumerate() {
+                queue.push(lane, *vertex);
+            }
+            let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
+            finish_lanes(&queue.inputs, &mut baseline);
+            vex::run(|| finish_lanes(&queue.inputs, &mut dispatched));
+            for (lane, v) in vertices.iter().enumerate() {
+                for out in [&baseline, &dispatched] {
+                    let frame = Frame::from_z(v.shading_normal);
+                    let wo_local = frame.to_local(v.wo);
+                    let wo_unit = unit_direction(wo_local);
+                    assert_eq!(out.sound.lane(lane), wo_unit.is_some(), "lane {lane}");
+                    let Some(wo_unit) = wo_unit else { continue };
+                    let bsdf = Bsdf::Lambertian {
+                        reflectance: v.reflectance,
+                    };
+                    let shadow = v.light.and_then(|light| {
+                        let wi_local = frame.to_local(light.wi);
+                        if light.wi.dot(v.geometric_normal) * wi_local.z <= 0.0 {
+                            return None;
+                        }
+                        let (f, bsdf_pdf) = bsdf.eval_and_pdf_unit_wo(wo_unit, wi_local);
+                        let f = f * wi_local.z.abs();
+                        if f == Vec3::ZERO {
+                            return None;
+                        }
+                        let weight = if light.delta {
+                            1.0
+                        } else {
+                            power_heuristic(1, light.pdf, 1, bsdf_pdf)
+                        };
+                        let contribution = v.throughput * f * light.radiance * weight / light.pdf;
+                        contribution.is_finite().then(|| {
+                            let origin =
+                                offset_ray_origin(v.position, v.geometric_normal, light.wi);
+                            (origin, light.distance * (1.0 - 1e-3), contribution)
+                        })
+                    });
+                    assert_eq!(out.has_shadow.lane(lane), shadow.is_some(), "lane {lane}");
+                    if let Some((origin, t_max, contribution)) = shadow {
+                        assert_eq!(bits(out.shadow_origin.get(lane)), bits(origin));
+                        assert_eq!(out.shadow_t_max.0[lane].to_bits(), t_max.to_bits());
+                        assert_eq!(bits(out.contribution.get(lane)), bits(contribution));
+                        shadows += 1;
+                    }
+                    let next = bsdf
+                        .sample_unit_wo(wo_unit, v.u, 0.5)
+                        .filter(|s| s.pdf > 0.0)
+                        .and_then(|s| {
+                            let wi = frame.to_world(s.wi);
+                            let reflects = s.wi.z * wo_local.z > 0.0;
+                            let ng = v.geometric_normal;
+                            let stays = wi.dot(ng) * v.wo.dot(ng) > 0.0;
+                            (reflects == stays).then_some((s, wi))
+                        });
+                    assert_eq!(out.scattered.lane(lane), next.is_some(), "lane {lane}");
+                    if let Some((s, wi)) = next {
+                        let throughput = v.throughput * (s.f * s.wi.z.abs() / s.pdf);
+                        assert_eq!(out.pdf.0[lane].to_bits(), s.pdf.to_bits());
+                        assert_eq!(bits(out.throughput.get(lane)), bits(throughput));
+                        assert_eq!(bits(out.direction.get(lane)), bits(wi));
+                        let origin = offset_ray_origin(v.position, v.geometric_normal, wi);
+                        assert_eq!(bits(out.origin.get(lane)), bits(origin));
+                        scattered += 1;
+                    }
+                }
+            }
+        }
+        // Both outcomes common, so the comparisons above were exercised.
+        assert!(shadows > 1000 && scattered > 1000, "{shadows} {scattered}");
+    }
+}

@@ -1,0 +1,274 @@
+//! Eight `f32` lanes, one path each: the value type of the shading stage's SIMD kernels.
+//!
+//! Each operation is a loop over the eight lanes of one IEEE operation (sum, product,
+//! quotient, square root, comparison, bit select), which the compiler turns into one vector
+//! instruction: two SSE2 ones in the baseline build, one AVX one in the build that
+//! `accel::vex::run` picks on CPUs with AVX2. Either way each lane gets exactly the operation
+//! scalar code would do (no fused multiply-add, no reassociation), so a kernel written with
+//! these types in the scalar code's order gives its bits.
+
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+/// Lanes per value.
+pub const LANES: usize = 8;
+
+/// Eight `f32`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct F8(pub [f32; LANES]);
+
+/// Eight lane masks: all bits set (true) or clear (false).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct M8([u32; LANES]);
+
+/// Eight 3-vectors, one component per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct V8 {
+    pub x: F8,
+    pub y: F8,
+    pub z: F8,
+}
+
+#[inline(always)]
+fn map(f: impl Fn(usize) -> f32) -> F8 {
+    let mut out = [0.0; LANES];
+    for (lane, value) in out.iter_mut().enumerate() {
+        *value = f(lane);
+    }
+    F8(out)
+}
+
+#[inline(always)]
+fn mask(f: impl Fn(usize) -> bool) -> M8 {
+    let mut out = [0; LANES];
+    for (lane, value) in out.iter_mut().enumerate() {
+        *value = if f(lane) { u32::MAX } else { 0 };
+    }
+    M8(out)
+}
+
+impl F8 {
+    #[inline(always)]
+    pub fn splat(v: f32) -> Self {
+        Self([v; LANES])
+    }
+
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        map(|i| self.0[i].sqrt())
+    }
+
+    #[inline(always)]
+    pub fn abs(self) -> Self {
+        map(|i| self.0[i].abs())
+    }
+
+    /// `f32::max` per lane (a NaN lane takes the other operand).
+    #[inline(always)]
+    pub fn max(self, other: Self) -> Self {
+        map(|i| self.0[i].max(other.0[i]))
+    }
+
+    /// `f32::min` per lane.
+    #[inline(always)]
+    pub fn min(self, other: Self) -> Self {
+        map(|i| self.0[i].min(other.0[i]))
+    }
+
+    /// `f32::copysign` per lane.
+    #[inline(always)]
+    pub fn copysign(self, sign: Self) -> Self {
+        map(|i| self.0[i].copysign(sign.0[i]))
+    }
+
+    #[inline(always)]
+    pub fn gt(self, other: Self) -> M8 {
+        mask(|i| self.0[i] > other.0[i])
+    }
+
+    #[inline(always)]
+    pub fn ge(self, other: Self) -> M8 {
+        mask(|i| self.0[i] >= other.0[i])
+    }
+
+    #[inline(always)]
+    pub fn lt(self, other: Self) -> M8 {
+        mask(|i| self.0[i] < other.0[i])
+    }
+
+    #[inline(always)]
+    pub fn le(self, other: Self) -> M8 {
+        mask(|i| self.0[i] <= other.0[i])
+    }
+
+    #[inline(always)]
+    pub fn eq(self, other: Self) -> M8 {
+        mask(|i| self.0[i] == other.0[i])
+    }
+
+    #[inline(always)]
+    pub fn is_finite(self) -> M8 {
+        mask(|i| self.0[i].is_finite())
+    }
+
+    #[inline(always)]
+    pub fn is_infinite(self) -> M8 {
+        mask(|i| self.0[i].is_infinite())
+    }
+}
+
+impl M8 {
+    /// `if self { a } else { b }` per lane, by bits.
+    #[inline(always)]
+    pub fn select(self, a: F8, b: F8) -> F8 {
+        map(|i| f32::from_bits((self.0[i] & a.0[i].to_bits()) | (!self.0[i] & b.0[i].to_bits())))
+    }
+
+    /// [`M8::select`] on each component.
+    #[inline(always)]
+    pub fn select_v(self, a: V8, b: V8) -> V8 {
+        V8 {
+            x: self.select(a.x, b.x),
+            y: self.select(a.y, b.y),
+            z: self.select(a.z, b.z),
+        }
+    }
+
+    #[inline(always)]
+    pub fn lane(self, lane: usize) -> bool {
+        self.0[lane] != 0
+    }
+
+    /// Lanes equal as masks (both true or both false).
+    #[inline(always)]
+    pub fn eq(self, other: Self) -> Self {
+        self.zip(other, |a, b| !(a ^ b))
+    }
+
+    /// `op` on the bits of each pair of lanes.
+    #[inline(always)]
+    fn zip(self, other: Self, op: impl Fn(u32, u32) -> u32) -> Self {
+        let mut out = [0; LANES];
+        for (lane, value) in out.iter_mut().enumerate() {
+            *value = op(self.0[lane], other.0[lane]);
+        }
+        M8(out)
+    }
+}
+
+impl BitAnd for M8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, other: Self) -> Self {
+        self.zip(other, |a, b| a & b)
+    }
+}
+
+impl BitOr for M8 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, other: Self) -> Self {
+        self.zip(other, |a, b| a | b)
+    }
+}
+
+impl Not for M8 {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        self.zip(self, |a, _| !a)
+    }
+}
+
+impl From<[bool; LANES]> for M8 {
+    #[inline(always)]
+    fn from(flags: [bool; LANES]) -> Self {
+        mask(|i| flags[i])
+    }
+}
+
+impl From<f32> for F8 {
+    #[inline(always)]
+    fn from(v: f32) -> Self {
+        Self::splat(v)
+    }
+}
+
+macro_rules! lane_op {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for F8 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, other: Self) -> Self {
+                map(|i| self.0[i] $op other.0[i])
+            }
+        }
+        impl $trait<f32> for F8 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, other: f32) -> Self {
+                map(|i| self.0[i] $op other)
+            }
+        }
+        impl $trait<F8> for f32 {
+            type Output = F8;
+            #[inline(always)]
+            fn $method(self, other: F8) -> F8 {
+                map(|i| self $op other.0[i])
+            }
+        }
+    };
+}
+
+lane_op!(Add, add, +);
+lane_op!(Sub, sub, -);
+lane_op!(Mul, mul, *);
+lane_op!(Div, div, /);
+
+impl Neg for F8 {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        map(|i| -self.0[i])
+    }
+}
+
+impl V8 {
+    /// glam's `Vec3::dot`: (x x' + y y') + z z'.
+    #[inline(always)]
+    pub fn dot(self, other: Self) -> F8 {
+        self.x * other.x + self.y * other.y + self.z * other.z
+    }
+
+    /// Each component times `s`.
+    #[inline(always)]
+    pub fn scale(self, s: F8) -> Self {
+        V8 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    /// Component-wise product.
+    #[inline(always)]
+    pub fn mul(self, other: Self) -> Self {
+        V8 {
+            x: self.x * other.x,
+            y: self.y * other.y,
+            z: self.z * other.z,
+        }
+    }
+
+    /// glam's `Vec3::is_finite`: every component finite.
+    #[inline(always)]
+    pub fn is_finite(self) -> M8 {
+        self.x.is_finite() & self.y.is_finite() & self.z.is_finite()
+    }
+
+    /// glam's `== Vec3::ZERO`: every component zero (either sign).
+    #[inline(always)]
+    pub fn is_zero(self) -> M8 {
+        let zero = F8::splat(0.0);
+        self.x.eq(zero) & self.y.eq(zero) & self.z.eq(zero)
+    }
+}
