@@ -6,6 +6,7 @@ mod car_paint;
 mod glossy_translucent;
 mod lights;
 mod materials;
+mod measured;
 mod nk;
 mod objects;
 mod params;
