@@ -43,9 +43,11 @@ impl BlinnPlastic {
         let Some(h) = (wo + wi).try_normalize() else {
             return diffuse;
         };
-        let cos_oh = wo.dot(h);
+        // wo . h = wi . h; their mean keeps f exactly reciprocal in floating point (F is steep
+        // near its critical angle).
+        let cos_oh = 0.5 * (wo.dot(h) + wi.dot(h));
         let g = (2.0 * h.z * wo.z.min(wi.z) / cos_oh).min(1.0);
-        let fresnel = fr_dielectric(wi.dot(h), 1.0 / INCIDENT_SIDE_INDEX);
+        let fresnel = fr_dielectric(cos_oh, 1.0 / INCIDENT_SIDE_INDEX);
         diffuse + self.specular * (self.distribution.d(h) * g * fresnel / (4.0 * wi.z * wo.z))
     }
 
