@@ -3,6 +3,7 @@
 
 mod camera;
 mod car_paint;
+mod film;
 mod glossy_translucent;
 mod lights;
 mod materials;
