@@ -354,6 +354,16 @@ impl Parser {
         line: usize,
         params: &mut ParamList,
     ) -> Result<MaterialDesc, SceneError> {
+        // LuxRender 0.x's `roughness` was Blinn's exponent 1 / roughness (`shinymetal.cpp`
+        // of 2007-8, pbrt-v1's); Blinn's distribution is not Schlick's for any r, so no value
+        // of 1.x's parameters draws the same lobe.
+        if params.ignore("roughness") {
+            self.warn(
+                line,
+                "shinymetal: LuxRender 0.x's \"roughness\" (a Blinn exponent) has no exact \
+                 counterpart in 1.x's Schlick uroughness, vroughness: ignored",
+            );
+        }
         let glossy = self.color_param(params, "Ks", Vec3::ONE, line)?;
         let mirror = self.color_param(params, "Kr", Vec3::ONE, line)?;
         let u = self.constant_float(params, "uroughness", 0.1, line)?;
