@@ -268,8 +268,9 @@ fn plastic_known_values() {
     );
 }
 
-/// `substrate` by hand along the normal: h = n, so the Phong lobe is D(n) = sqrt((ex + 2)(ey
-/// + 2)) / (2 pi), F = Rs, and f = 28 / (23 pi) Rd (1 - Rs) (1 - 0.5^5)^2 + D(n) Rs / 4.
+/// `substrate` by hand along the normal: h = n, so the Phong lobe is
+/// D(n) = sqrt((ex + 2)(ey + 2)) / (2 pi), F = Rs, and
+/// f = 28 / (23 pi) Rd (1 - Rs) (1 - 0.5^5)^2 + D(n) Rs / 4.
 /// Anisotropy: at equal tilts of h along x and y the lobe is larger along the axis of the
 /// smaller exponent, the rougher one, by cos_h^(ex - ey).
 #[test]

@@ -1,7 +1,9 @@
 //! LuxRender 0.x's measured materials (`materials/primer.cpp`, `felt.cpp`, `clay.cpp`,
 //! `bluepaint.cpp`, `skin.cpp` of LuxRender/Lux, inherited from pbrt-v1): each a fixed
 //! Lafortune fit (diffuse albedo and three lobes, red, green, blue), with no parameter but the
-//! `bumpmap` every material takes.
+//! `bumpmap` every material takes. The coefficients keep the sources' digits, some beyond
+//! f32's precision.
+#![allow(clippy::excessive_precision)]
 
 use glam::Vec3;
 
