@@ -16,10 +16,9 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::SeedableRng;
 
 use common::bsdf_estimates::{
-    assert_sample_matches_eval_and_is_reciprocal, quadrature, sampled_albedo, uniform,
+    assert_samples_match_eval, assert_sampling_follows_pdf, quadrature, sampled_albedo, uniform,
 };
 use common::bsdf_outputs::assert_finite_outputs;
-use common::chi_square::DirectionGrid;
 
 fn wo(theta: f32) -> Vec3 {
     Vec3::new(theta.sin() * 0.6, theta.sin() * 0.8, theta.cos())
@@ -140,22 +139,8 @@ fn all_cases() -> Vec<Bsdf> {
 /// wo . h and on cos_o cos_i symmetrically; the velvet phase function on wo . wi).
 #[test]
 fn samples_match_eval_and_pdf_and_f_is_reciprocal() {
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
-    for bsdf in all_cases() {
-        let mut glossy = 0;
-        for _ in 0..20_000 {
-            let w = wo(uniform(&mut rng) * 1.5);
-            let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
-            let Some(s) = bsdf.sample(w, u, uniform(&mut rng)) else {
-                continue;
-            };
-            if s.delta {
-                continue;
-            }
-            glossy += 1;
-            assert_sample_matches_eval_and_is_reciprocal(&bsdf, w, &s);
-        }
-        assert!(glossy > 5_000, "{bsdf:?}: {glossy} non-delta samples");
+    for (i, bsdf) in all_cases().iter().enumerate() {
+        assert_samples_match_eval(bsdf, 1.5, 1 + i as u64, 5_000);
     }
 }
 
@@ -164,22 +149,8 @@ fn samples_match_eval_and_pdf_and_f_is_reciprocal() {
 /// samples are not counted, and its pdf integrates to the glossy lobe's probability, 1/2.
 #[test]
 fn sampling_histogram_matches_pdf() {
-    let grid = DirectionGrid {
-        z_min: -1.0,
-        nz: 24,
-        nphi: 24,
-        sub: 16,
-    };
-    for (i, bsdf) in all_cases().into_iter().enumerate() {
-        let w = wo(0.8);
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(10 + i as u64);
-        let sample = || {
-            let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
-            bsdf.sample(w, u, uniform(&mut rng))
-                .filter(|s| !s.delta)
-                .map(|s| s.wi)
-        };
-        grid.assert_follows_pdf(&format!("{bsdf:?}"), 400_000, sample, |d| bsdf.pdf(w, d));
+    for (i, bsdf) in all_cases().iter().enumerate() {
+        assert_sampling_follows_pdf(bsdf, wo(0.8), 10 + i as u64, &format!("{bsdf:?}"));
     }
 }
 
