@@ -17,16 +17,18 @@ mod common;
 
 use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::glossy_translucent::{Coating, GlossyTranslucent};
+use foton::bsdf::lafortune::{LafortuneFit, LafortuneLobe};
 use foton::bsdf::microfacet::TrowbridgeReitz;
 use foton::bsdf::microfacet_distribution::{DistributionKind, Masking, Microfacet};
 use foton::bsdf::oren_nayar::oren_nayar_ab;
+use foton::bsdf::phong_distribution::PhongDistribution;
 use foton::bsdf::plastic::internal_reflectance;
 use foton::bsdf::rough_plastic::CoatingTables;
 use foton::bsdf::thin_film::ThinFilm;
 use foton::bsdf::{
-    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent, Plastic,
-    RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal, SmoothConductor, ThinDielectric,
-    Velvet,
+    BlinnPlastic, Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent,
+    FresnelBlend, Lafortune, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal,
+    SmoothConductor, ThinDielectric, Velvet,
 };
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -35,7 +37,7 @@ use rand_xoshiro::rand_core::SeedableRng;
 use common::bsdf_estimates::{quadrature, uniform};
 
 /// The number of BSDF kinds; `kind` numbers them.
-const KINDS: usize = 17;
+const KINDS: usize = 20;
 
 /// Each kind's number: exhaustive, so a kind added to `Bsdf` must be added here (and to `cases`).
 fn kind(bsdf: &Bsdf) -> usize {
@@ -57,6 +59,9 @@ fn kind(bsdf: &Bsdf) -> usize {
         Bsdf::Velvet(_) => 14,
         Bsdf::CarPaint(_) => 15,
         Bsdf::GlossyTranslucent(_) => 16,
+        Bsdf::BlinnPlastic(_) => 17,
+        Bsdf::FresnelBlend(_) => 18,
+        Bsdf::Lafortune(_) => 19,
     }
 }
 
@@ -190,8 +195,43 @@ fn cases() -> Vec<Bsdf> {
             back: coating(0.3, 0.3, 0.3, false),
             transmittance: Vec3::new(0.9, 0.6, 0.3),
         }),
+        Bsdf::BlinnPlastic(BlinnPlastic {
+            diffuse: Vec3::new(0.02, 0.05, 0.1),
+            specular: Vec3::ONE,
+            distribution: PhongDistribution::from_roughness(0.05, 0.05),
+        }),
+        Bsdf::FresnelBlend(FresnelBlend {
+            diffuse: Vec3::new(0.03, 0.02, 0.05),
+            specular: Vec3::splat(0.1),
+            distribution: PhongDistribution::from_roughness(0.02, 0.1),
+        }),
+        Bsdf::Lafortune(Lafortune { fit: &GRAZING_FIT }),
     ]
 }
+
+/// A Lafortune fit with a dark diffuse term, a lobe towards grazing angles whose sampling axis
+/// points below the surface (Cz < 0, as in LuxRender's `clay` and `skin`), a retro-reflecting
+/// and a forward lobe.
+const GRAZING_FIT: LafortuneFit = LafortuneFit {
+    diffuse: Vec3::new(0.02, 0.02, 0.02),
+    lobes: [
+        LafortuneLobe {
+            xy: Vec3::splat(-1.1),
+            z: Vec3::splat(-1.4),
+            exponent: Vec3::splat(15.0),
+        },
+        LafortuneLobe {
+            xy: Vec3::splat(0.8),
+            z: Vec3::splat(0.7),
+            exponent: Vec3::splat(20.0),
+        },
+        LafortuneLobe {
+            xy: Vec3::splat(-1.0),
+            z: Vec3::splat(0.9),
+            exponent: Vec3::splat(60.0),
+        },
+    ],
+};
 
 /// Outgoing directions above the surface, grazing, and below it (two-sided and transmitting
 /// kinds scatter from there too; the others give nothing, on both sides of the comparison).

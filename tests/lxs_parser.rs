@@ -438,7 +438,7 @@ fn material_quirks_warn() {
         "WorldBegin\n\
          MakeNamedMaterial \"a\" \"float sigma\" [20] \"string type\" [\"matte\"]\n\
          MakeNamedMaterial \"b\" \"float uroughness\" [0.1] \"float vroughness\" [0.1] \"int roughness\" [10] \"string type\" [\"metal2\"]\n\
-         MakeNamedMaterial \"c\" \"color Kd\" [1 0 0] \"string type\" [\"felt\"]\n\
+         MakeNamedMaterial \"c\" \"color Kd\" [1 0 0] \"string type\" [\"cloth\"]\n\
          Material \"glass\" \"float bogus\" [1]\nWorldEnd\n",
     );
     assert_eq!(
@@ -466,7 +466,7 @@ fn material_quirks_warn() {
     let w = messages(&s);
     assert_eq!(w.len(), 3, "{w:?}");
     assert!(w[0].contains(":3: warning: metal2: \"roughness\" ignored"));
-    assert!(w[1].contains(":4: warning: material type \"felt\" unsupported: grey matte"));
+    assert!(w[1].contains(":4: warning: material type \"cloth\" unsupported: grey matte"));
     assert!(
         w[2].contains(":5: warning: Material \"glass\": unknown parameter \"float bogus\" ignored")
     );

@@ -11,6 +11,7 @@
 //! outputs, so that no NaN or infinity escapes.
 
 pub mod beckmann;
+pub mod blinn_plastic;
 pub mod car_paint;
 pub mod coated_glossy;
 mod conductor;
@@ -18,11 +19,14 @@ mod dielectric;
 pub mod diffuse_translucent;
 pub mod frame;
 pub mod fresnel;
+pub mod fresnel_blend;
 pub mod glossy_translucent;
+pub mod lafortune;
 mod lambertian;
 pub mod microfacet;
 pub mod microfacet_distribution;
 pub mod oren_nayar;
+pub mod phong_distribution;
 pub mod plastic;
 pub mod rough_dielectric;
 pub mod rough_plastic;
@@ -34,13 +38,16 @@ pub mod thin_dielectric;
 pub mod thin_film;
 pub mod velvet;
 
+pub use blinn_plastic::BlinnPlastic;
 pub use car_paint::{CarPaint, CarPaintLobe};
 pub use coated_glossy::CoatedGlossy;
 pub use conductor::{ConductorFresnel, RoughConductor};
 use dielectric::Dielectric;
 pub use diffuse_translucent::DiffuseTranslucent;
+pub use fresnel_blend::FresnelBlend;
 use glam::{Vec2, Vec3};
 pub use glossy_translucent::GlossyTranslucent;
+pub use lafortune::Lafortune;
 use lambertian::Lambertian;
 use microfacet::TrowbridgeReitz;
 use microfacet_distribution::{Masking, Microfacet};
@@ -109,6 +116,13 @@ pub enum Bsdf {
     /// Glossy coatings on both sides of a diffusely transmitting sheet (LuxRender's
     /// `glossytranslucent`).
     GlossyTranslucent(GlossyTranslucent),
+    /// A Lambertian base plus a Blinn microfacet lobe (LuxRender 0.x's `plastic`).
+    BlinnPlastic(BlinnPlastic),
+    /// Ashikhmin and Shirley's coupled diffuse and glossy BRDF (LuxRender 0.x's `substrate`).
+    FresnelBlend(FresnelBlend),
+    /// A diffuse term plus generalized cosine lobes of a measured material (LuxRender 0.x's
+    /// `primer`, `felt`, `clay`, `bluepaint`, `skin`).
+    Lafortune(Lafortune),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -266,6 +280,9 @@ impl Bsdf {
             Bsdf::Velvet(v) => v.eval(wo, wi),
             Bsdf::CarPaint(c) => c.eval(wo, wi),
             Bsdf::GlossyTranslucent(g) => g.eval(wo, wi),
+            Bsdf::BlinnPlastic(p) => p.eval(wo, wi),
+            Bsdf::FresnelBlend(b) => b.eval(wo, wi),
+            Bsdf::Lafortune(l) => l.eval(wo, wi),
             Bsdf::SpecularReflection { .. }
             | Bsdf::Dielectric { .. }
             | Bsdf::ThinDielectric(_)
@@ -294,6 +311,9 @@ impl Bsdf {
             Bsdf::Velvet(v) => v.pdf(wo, wi),
             Bsdf::CarPaint(c) => c.pdf(wo, wi),
             Bsdf::GlossyTranslucent(g) => g.pdf(wo, wi),
+            Bsdf::BlinnPlastic(p) => p.pdf(wo, wi),
+            Bsdf::FresnelBlend(b) => b.pdf(wo, wi),
+            Bsdf::Lafortune(l) => l.pdf(wo, wi),
             Bsdf::SpecularReflection { .. }
             | Bsdf::Dielectric { .. }
             | Bsdf::ThinDielectric(_)
@@ -356,6 +376,9 @@ impl Bsdf {
             Bsdf::Velvet(v) => v.sample(wo, u),
             Bsdf::CarPaint(c) => c.sample(wo, u),
             Bsdf::GlossyTranslucent(g) => g.sample(wo, u, canonical(uc)),
+            Bsdf::BlinnPlastic(p) => p.sample(wo, u, canonical(uc)),
+            Bsdf::FresnelBlend(b) => b.sample(wo, u, canonical(uc)),
+            Bsdf::Lafortune(l) => l.sample(wo, u, canonical(uc)),
         }?;
         (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
     }
@@ -386,6 +409,7 @@ impl Bsdf {
             Bsdf::GlossyTranslucent(g) => {
                 g.front.lobe.anisotropy != 0.0 || g.back.lobe.anisotropy != 0.0
             }
+            Bsdf::FresnelBlend(b) => b.distribution.ex != b.distribution.ey,
             _ => false,
         }
     }
@@ -431,6 +455,9 @@ impl Bsdf {
             Bsdf::Velvet(v) => v.reflectance,
             Bsdf::CarPaint(c) => c.albedo(),
             Bsdf::GlossyTranslucent(g) => g.albedo(),
+            Bsdf::BlinnPlastic(p) => p.albedo(),
+            Bsdf::FresnelBlend(b) => b.albedo(),
+            Bsdf::Lafortune(l) => l.albedo(),
         }
     }
 }

@@ -10,15 +10,17 @@ use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
 use crate::bsdf::glossy_translucent::Coating;
+use crate::bsdf::lafortune::LafortuneFit;
 use crate::bsdf::microfacet::TrowbridgeReitz;
 use crate::bsdf::microfacet_distribution::{Masking, Microfacet};
 use crate::bsdf::oren_nayar::oren_nayar_ab;
+use crate::bsdf::phong_distribution::PhongDistribution;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::thin_film::ThinFilm;
 use crate::bsdf::{
-    Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent,
-    GlossyTranslucent, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ShinyMetal,
-    SmoothConductor, ThinDielectric, Velvet,
+    BlinnPlastic, Bsdf, CarPaint, CarPaintLobe, CoatedGlossy, ConductorFresnel, DiffuseTranslucent,
+    FresnelBlend, GlossyTranslucent, Lafortune, Plastic, RoughConductor, RoughDielectric,
+    RoughPlastic, ShinyMetal, SmoothConductor, ThinDielectric, Velvet,
 };
 use crate::texture::ShadingPoint;
 use bump::BumpMap;
@@ -145,6 +147,20 @@ pub enum Material {
         front: GlossyCoating,
         back: GlossyCoating,
     },
+    /// LuxRender 0.x's `plastic`: Lambertian plus a Blinn lobe.
+    BlinnPlastic {
+        diffuse: Color,
+        specular: Color,
+        distribution: PhongDistribution,
+    },
+    /// LuxRender 0.x's `substrate`: Ashikhmin and Shirley's diffuse and glossy BRDF.
+    FresnelBlend {
+        diffuse: Color,
+        specular: Color,
+        distribution: PhongDistribution,
+    },
+    /// A measured BRDF of generalized cosine lobes.
+    Lafortune(&'static LafortuneFit),
     /// Rays pass through.
     Null,
     /// `amount` (a float input) of material `second`, `1 - amount` of `first`.
@@ -258,6 +274,7 @@ impl MaterialTable {
                 | Material::RoughDielectric {
                     distribution: d, ..
                 } => d.is_anisotropic(),
+                Material::FresnelBlend { distribution, .. } => distribution.ex != distribution.ey,
                 _ => false,
             })
     }
@@ -572,6 +589,25 @@ impl Inputs<'_> {
                     roughness: l.roughness,
                 }),
             }),
+            Material::BlinnPlastic {
+                diffuse,
+                specular,
+                distribution,
+            } => Bsdf::BlinnPlastic(BlinnPlastic {
+                diffuse: color(diffuse),
+                specular: color(specular),
+                distribution: *distribution,
+            }),
+            Material::FresnelBlend {
+                diffuse,
+                specular,
+                distribution,
+            } => Bsdf::FresnelBlend(FresnelBlend {
+                diffuse: color(diffuse),
+                specular: color(specular),
+                distribution: *distribution,
+            }),
+            Material::Lafortune(fit) => Bsdf::Lafortune(Lafortune { fit }),
             Material::Null
             | Material::Mix { .. }
             | Material::Bump { .. }

@@ -13,6 +13,7 @@ use super::desc::{
 };
 use crate::bsdf::microfacet::clamp_alpha;
 use crate::bsdf::microfacet_distribution::{DistributionKind, Microfacet};
+use crate::bsdf::phong_distribution::PhongDistribution;
 use crate::bsdf::plastic::internal_reflectance;
 use crate::bsdf::rough_plastic::CoatingTables;
 use crate::bsdf::thin_film::ThinFilm;
@@ -553,6 +554,28 @@ fn material(desc: &MaterialDesc) -> Material {
                 roughness: lobes[i].roughness,
             }),
         },
+        MaterialDesc::BlinnPlastic {
+            diffuse,
+            specular,
+            exponent,
+        } => Material::BlinnPlastic {
+            diffuse: color(diffuse),
+            specular: color(specular),
+            distribution: PhongDistribution {
+                ex: *exponent,
+                ey: *exponent,
+            },
+        },
+        MaterialDesc::FresnelBlend {
+            diffuse,
+            specular,
+            exponents: (ex, ey),
+        } => Material::FresnelBlend {
+            diffuse: color(diffuse),
+            specular: color(specular),
+            distribution: PhongDistribution { ex: *ex, ey: *ey },
+        },
+        MaterialDesc::Lafortune(fit) => Material::Lafortune(fit),
         MaterialDesc::Null => Material::Null,
         MaterialDesc::OneSided { material } => Material::OneSided {
             material: *material,

@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
+use crate::bsdf::lafortune::LafortuneFit;
 use crate::camera::{CameraType, pinhole};
 pub use crate::light::spot::SpotFalloff;
 use crate::settings::IntegratorKind;
@@ -379,6 +380,21 @@ pub enum MaterialDesc {
         front: GlossyCoatingDesc,
         back: GlossyCoatingDesc,
     },
+    /// A Lambertian base plus a Blinn microfacet lobe of `exponent` (LuxRender 0.x's `plastic`).
+    BlinnPlastic {
+        diffuse: ColorParam,
+        specular: ColorParam,
+        exponent: f32,
+    },
+    /// Ashikhmin and Shirley's diffuse and anisotropic Phong lobe, exponents along dp/du and
+    /// across (LuxRender 0.x's `substrate`).
+    FresnelBlend {
+        diffuse: ColorParam,
+        specular: ColorParam,
+        exponents: (f32, f32),
+    },
+    /// A measured BRDF of generalized cosine lobes (LuxRender 0.x's `primer`, `clay`, ...).
+    Lafortune(&'static LafortuneFit),
     /// Invisible: rays pass through (for light emitters).
     Null,
     /// `amount` of `second`, `1 - amount` of `first`.

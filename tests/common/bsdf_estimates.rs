@@ -4,6 +4,8 @@
 use std::f32::consts::PI;
 
 use foton::bsdf::{Bsdf, BsdfSample};
+
+use super::chi_square::DirectionGrid;
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
@@ -66,4 +68,50 @@ pub fn sampled_albedo(bsdf: &Bsdf, w: Vec3, seed: u64) -> (Vec3, Vec3) {
     let mean = sum / N as f32;
     let variance = (sum2 / N as f32 - mean * mean).max(Vec3::ZERO);
     (mean, (variance / N as f32).powf(0.5))
+}
+
+/// The outgoing direction of polar angle `theta` the BSDF tests use (azimuth atan(4 / 3), off
+/// the frame's axes).
+pub fn outgoing(theta: f32) -> Vec3 {
+    Vec3::new(theta.sin() * 0.6, theta.sin() * 0.8, theta.cos())
+}
+
+/// 20,000 samples at outgoing directions of polar angle uniform in [0, `max_theta`): every
+/// non-delta one is consistent with eval and pdf and reciprocal
+/// ([`assert_sample_matches_eval_and_is_reciprocal`]), and there are more than `min_samples`.
+pub fn assert_samples_match_eval(bsdf: &Bsdf, max_theta: f32, seed: u64, min_samples: usize) {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let mut count = 0;
+    for _ in 0..20_000 {
+        let w = outgoing(uniform(&mut rng) * max_theta);
+        let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
+        let Some(s) = bsdf.sample(w, u, uniform(&mut rng)) else {
+            continue;
+        };
+        if s.delta {
+            continue;
+        }
+        count += 1;
+        assert_sample_matches_eval_and_is_reciprocal(bsdf, w, &s);
+    }
+    assert!(count > min_samples, "{bsdf:?}: {count} non-delta samples");
+}
+
+/// Pearson's chi-square of 400,000 sampled (non-delta) directions for `wo` against the pdf over
+/// the sphere (`DirectionGrid`: 24 x 24 cells of equal solid angle, p = 1e-4).
+pub fn assert_sampling_follows_pdf(bsdf: &Bsdf, wo: Vec3, seed: u64, label: &str) {
+    let grid = DirectionGrid {
+        z_min: -1.0,
+        nz: 24,
+        nphi: 24,
+        sub: 16,
+    };
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let sample = || {
+        let u = Vec2::new(uniform(&mut rng), uniform(&mut rng));
+        bsdf.sample(wo, u, uniform(&mut rng))
+            .filter(|s| !s.delta)
+            .map(|s| s.wi)
+    };
+    grid.assert_follows_pdf(label, 400_000, sample, |d| bsdf.pdf(wo, d));
 }

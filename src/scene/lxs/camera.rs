@@ -1,13 +1,11 @@
-//! `Camera`, `Film` and `PixelFilter`.
+//! `Camera` and `PixelFilter`.
 
 use glam::Vec2;
 
 use super::params::ParamList;
 use super::parser::Parser;
 use crate::camera::{self, pinhole};
-use crate::scene::desc::{
-    CameraDesc, DEFAULT_FOV_DEGREES, FilterDesc, FilterKind, SceneError, ToneMap,
-};
+use crate::scene::desc::{CameraDesc, DEFAULT_FOV_DEGREES, FilterDesc, FilterKind, SceneError};
 
 impl Parser {
     /// Camera space is the CTM's space: camera_to_world = CTM^-1; the world starts afresh.
@@ -71,79 +69,6 @@ impl Parser {
         Ok(())
     }
 
-    pub(super) fn film_directive(
-        &mut self,
-        line: usize,
-        params: &mut ParamList,
-    ) -> Result<(), SceneError> {
-        let film = &self.scene.film;
-        let x_resolution = self
-            .positive_int(params, "xresolution", line)?
-            .unwrap_or(film.x_resolution);
-        let y_resolution = self
-            .positive_int(params, "yresolution", line)?
-            .unwrap_or(film.y_resolution);
-        let gamma = params.float("gamma")?.unwrap_or(2.2);
-        if gamma <= 0.0 {
-            return Err(self.error(line, format!("Film: gamma {gamma} must be positive")));
-        }
-        let tonemap = match params.string("tonemapkernel")?.as_deref() {
-            None | Some("autolinear") => ToneMap::AutoLinear,
-            Some("linear") => {
-                // LuxRender's linear tone map, after the ISO speed definition: a scene luminance
-                // of 10 / sensitivity, exposed for `exposure` s at f-number `fstop`, maps to
-                // 118/255 on a display of gamma `linear_gamma`:
-                // scale = exposure / fstop^2 * sensitivity * 0.65 / 10 * (118/255)^gamma.
-                let sensitivity = params.float("linear_sensitivity")?.unwrap_or(100.0);
-                let exposure = params.float("linear_exposure")?.unwrap_or(1.0 / 1000.0);
-                let fstop = params.float("linear_fstop")?.unwrap_or(2.8);
-                let display_gamma = params.float("linear_gamma")?.unwrap_or(gamma);
-                let scale = exposure / (fstop * fstop) * sensitivity * 0.65 / 10.0
-                    * (118.0f32 / 255.0).powf(display_gamma);
-                ToneMap::Linear { scale }
-            }
-            // `tonemaps/reinhard.cpp`, `contrast.cpp`, `maxwhite.cpp`; LuxRender 0.x's Reinhard
-            // for scenes read as that release (`version.rs`).
-            Some("reinhard") => {
-                let prescale = params.float("reinhard_prescale")?.unwrap_or(1.0);
-                let postscale = params.float("reinhard_postscale")?.unwrap_or(1.0);
-                let burn = params.float("reinhard_burn")?.unwrap_or(7.0);
-                if self.version.has_absolute_reinhard() {
-                    ToneMap::ReinhardAbsolute {
-                        prescale,
-                        postscale,
-                        burn,
-                    }
-                } else {
-                    ToneMap::Reinhard {
-                        prescale,
-                        postscale,
-                        burn,
-                    }
-                }
-            }
-            Some("contrast") => ToneMap::Contrast {
-                ywa: params.float("contrast_ywa")?.unwrap_or(50.0),
-            },
-            Some("maxwhite") => ToneMap::MaxWhite,
-            Some(other) => {
-                self.warn(
-                    line,
-                    format!("Film: tonemapkernel \"{other}\" unsupported: linear, scale 1"),
-                );
-                ToneMap::Linear { scale: 1.0 }
-            }
-        };
-        self.scene.film = crate::scene::desc::FilmDesc {
-            x_resolution,
-            y_resolution,
-            gamma,
-            filename: params.string("filename")?.map(without_image_extension),
-            tonemap,
-        };
-        Ok(())
-    }
-
     /// `xwidth`/`ywidth` are radii; defaults as LuxRender's (box 0.5, others 2).
     pub(super) fn pixel_filter(
         &mut self,
@@ -196,18 +121,4 @@ impl Parser {
         self.scene.filter = FilterDesc { kind, radius };
         Ok(())
     }
-}
-
-/// The film's output name without an image extension (LuxBlend writes none, but names like
-/// `cornell-box.Scene.00244` contain dots, so only known extensions are removed).
-fn without_image_extension(filename: String) -> String {
-    const EXTENSIONS: &[&str] = &[".png", ".exr", ".tga", ".jpg", ".jpeg", ".flm"];
-    EXTENSIONS
-        .iter()
-        .find_map(|ext| {
-            let stem_len = filename.len().checked_sub(ext.len())?;
-            let (stem, tail) = filename.split_at_checked(stem_len)?;
-            tail.eq_ignore_ascii_case(ext).then(|| stem.to_string())
-        })
-        .unwrap_or(filename)
 }

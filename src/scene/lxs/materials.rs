@@ -4,10 +4,12 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::measured::measured_material;
 use super::params::{ColorSource, ParamList};
 use super::parser::Parser;
 use super::{car_paint, nk, paths};
 use crate::bsdf::coated_glossy::coating_f0;
+use crate::bsdf::phong_distribution::PhongDistribution;
 use crate::material::bump::DEFAULT_SAMPLE_DISTANCE;
 use crate::scene::desc::{
     CarPaintLobeDesc, ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution,
@@ -90,6 +92,9 @@ impl Parser {
         line: usize,
         params: &mut ParamList,
     ) -> Result<MaterialDesc, SceneError> {
+        if let Some(fit) = measured_material(kind) {
+            return Ok(MaterialDesc::Lafortune(fit));
+        }
         Ok(match kind {
             // `materials/matte.cpp`: Kd 0.9, sigma 0 (Lambertian) in degrees, clamped to [0, 90].
             "matte" => {
@@ -225,6 +230,32 @@ impl Parser {
                 }
             }
             "carpaint" => self.car_paint(line, params)?,
+            // LuxRender 0.x's (pbrt-v1's) `materials/plastic.cpp`: Kd 1, Ks 1, roughness 0.1,
+            // Blinn's exponent 1 / roughness (clamped as `PhongDistribution` says).
+            "plastic" => {
+                let diffuse = self.color_param(params, "Kd", Vec3::ONE, line)?;
+                let specular = self.color_param(params, "Ks", Vec3::ONE, line)?;
+                let roughness = self.constant_float(params, "roughness", 0.1, line)?;
+                MaterialDesc::BlinnPlastic {
+                    diffuse,
+                    specular,
+                    exponent: PhongDistribution::from_roughness(roughness, roughness).ex,
+                }
+            }
+            // LuxRender 0.x's `materials/substrate.cpp`: Kd 0.5, Ks 0.5, uroughness and
+            // vroughness 0.1, the exponents their inverses.
+            "substrate" => {
+                let diffuse = self.color_param(params, "Kd", Vec3::splat(0.5), line)?;
+                let specular = self.color_param(params, "Ks", Vec3::splat(0.5), line)?;
+                let u = self.constant_float(params, "uroughness", 0.1, line)?;
+                let v = self.constant_float(params, "vroughness", 0.1, line)?;
+                let PhongDistribution { ex, ey } = PhongDistribution::from_roughness(u, v);
+                MaterialDesc::FresnelBlend {
+                    diffuse,
+                    specular,
+                    exponents: (ex, ey),
+                }
+            }
             // `materials/scattermaterial.cpp` scatters by a volume's phase function at the
             // surface; foton has no media.
             "scatter" => {
@@ -323,6 +354,16 @@ impl Parser {
         line: usize,
         params: &mut ParamList,
     ) -> Result<MaterialDesc, SceneError> {
+        // LuxRender 0.x's `roughness` was Blinn's exponent 1 / roughness (`shinymetal.cpp`
+        // of 2007-8, pbrt-v1's); Blinn's distribution is not Schlick's for any r, so no value
+        // of 1.x's parameters draws the same lobe.
+        if params.ignore("roughness") {
+            self.warn(
+                line,
+                "shinymetal: LuxRender 0.x's \"roughness\" (a Blinn exponent) has no exact \
+                 counterpart in 1.x's Schlick uroughness, vroughness: ignored",
+            );
+        }
         let glossy = self.color_param(params, "Ks", Vec3::ONE, line)?;
         let mirror = self.color_param(params, "Kr", Vec3::ONE, line)?;
         let u = self.constant_float(params, "uroughness", 0.1, line)?;

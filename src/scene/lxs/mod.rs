@@ -3,9 +3,11 @@
 
 mod camera;
 mod car_paint;
+mod film;
 mod glossy_translucent;
 mod lights;
 mod materials;
+mod measured;
 mod nk;
 mod objects;
 mod params;

@@ -445,6 +445,16 @@ impl ParamList {
         }
     }
 
+    /// Marks the parameters called `name` as used, unread; whether there was one.
+    pub fn ignore(&mut self, name: &str) -> bool {
+        let mut found = false;
+        for param in self.params.iter_mut().filter(|p| p.name == name) {
+            param.used = true;
+            found = true;
+        }
+        found
+    }
+
     /// Marks every parameter as used: for directives whose parameters foton has no use for.
     pub fn ignore_all(&mut self) {
         for param in &mut self.params {

@@ -429,7 +429,7 @@ impl Parser {
         }
         match name {
             "Camera" => self.camera(first, line, params)?,
-            "Film" => self.film_directive(line, params)?,
+            "Film" => self.film_directive(first, line, params)?,
             "Sampler" => {
                 self.scene.pixel_samples = self.positive_int(params, "pixelsamples", line)?;
             }
