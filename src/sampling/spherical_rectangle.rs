@@ -78,15 +78,6 @@ impl Rectangle {
         })
     }
 
-    pub fn area(&self) -> f32 {
-        self.len_x * self.len_y
-    }
-
-    /// The unit normal, edge_x cross edge_y.
-    pub fn normal(&self) -> Vec3 {
-        self.normal
-    }
-
     /// The rectangle as seen from `origin`; `None` from its plane (it subtends nothing there)
     /// or where the solid angle is not a positive finite number.
     #[inline]
@@ -200,7 +191,7 @@ mod tests {
                 sum += f64::from(d.normalize().dot(r.normal).abs() / d.length_squared());
             }
         }
-        sum * f64::from(r.area() * (s[1] - s[0]) * (t[1] - t[0])) / (n * n) as f64
+        sum * f64::from(r.len_x * r.len_y * (s[1] - s[0]) * (t[1] - t[0])) / (n * n) as f64
     }
 
     /// Girard's solid angle against the quadrature of cos / d^2, from points near and far,
