@@ -46,8 +46,13 @@ enum EmitterShape {
 pub const SOLID_ANGLE_RANGE: std::ops::RangeInclusive<f32> = 3e-4..=6.22;
 
 impl AreaLight {
-    /// `None` for shapes that cannot emit (no area).
-    pub fn new(shape: &EmissiveShape, geometry: &SceneGeometry) -> Option<Self> {
+    /// `None` for shapes that cannot emit (no area). With `solid_angle_rectangles`, a
+    /// rectangle lamp is sampled by solid angle (within [`SOLID_ANGLE_RANGE`]), else by area.
+    pub fn new(
+        shape: &EmissiveShape,
+        geometry: &SceneGeometry,
+        solid_angle_rectangles: bool,
+    ) -> Option<Self> {
         let decode = |id: &u32| geometry.ids.decode(*id);
         let shape_kind = match decode(shape.primitives.first()?)? {
             PrimitiveRef::Triangle(_) | PrimitiveRef::InstanceTriangle { .. } => {
@@ -61,8 +66,11 @@ impl AreaLight {
                     return None;
                 }
                 if let [first, second] = corners.as_slice()
-                    && let Some(parallelogram) = EmitterParallelogram::new(first, second)
+                    && let Some(mut parallelogram) = EmitterParallelogram::new(first, second)
                 {
+                    if !solid_angle_rectangles {
+                        parallelogram.rectangle = None;
+                    }
                     return Some(Self {
                         radiance: shape.radiance,
                         shape: EmitterShape::Parallelogram(parallelogram),
@@ -285,7 +293,7 @@ impl EmitterTriangle {
 /// A parallelogram emitter: `corner` + s `edge1` + t `edge2` for s, t in [0, 1], its unit
 /// normal (the triangles' winding) and area. Mitsuba 3 samples its rectangles by area
 /// (`rectangle.cpp`, `sample_position`: a uniform point of the square, mapped affinely); a
-/// rectangle (orthogonal edges) is also kept as one to sample by solid angle.
+/// rectangle (orthogonal edges) is also kept as one to sample by solid angle where asked.
 #[derive(Clone, Debug)]
 struct EmitterParallelogram {
     corner: Vec3,
@@ -435,7 +443,10 @@ mod tests {
             });
             assert!((integral - 1.0).abs() < 2e-3, "{p}: {integral}");
         }
-        assert_eq!(lamp.pdf(Vec3::new(0.0, 0.0, 1.5), Vec3::new(0.0, 0.2, 2.0), normal), 0.0);
+        assert_eq!(
+            lamp.pdf(Vec3::new(0.0, 0.0, 1.5), Vec3::new(0.0, 0.2, 2.0), normal),
+            0.0
+        );
     }
 
     /// A wall beside the lamp and a point just above it (normals facing the lamp): the light
@@ -453,21 +464,28 @@ mod tests {
         let area = f64::from((p1 - p0).cross(p3 - p0).length());
         for (p, receiver) in [
             (Vec3::new(0.7, 0.25, 2.1), Vec3::NEG_X),
-            (Vec3::new(0.1, 0.2, 2.05), Vec3::new(0.3, 0.2, -1.0).normalize()),
+            (
+                Vec3::new(0.1, 0.2, 2.05),
+                Vec3::new(0.3, 0.2, -1.0).normalize(),
+            ),
         ] {
             // Per unit area of the lamp: cos_r and cos_light / d^2 (the solid angle's density).
             let geometry = |x: Vec3| {
                 let d = x - p;
                 let wi = d.normalize();
                 let cos_r = f64::from(wi.dot(receiver).max(0.0));
-                (cos_r, f64::from((-wi).dot(Vec3::Z)) / f64::from(d.length_squared()))
+                (
+                    cos_r,
+                    f64::from((-wi).dot(Vec3::Z)) / f64::from(d.length_squared()),
+                )
             };
             let n = 1500;
             let mean = over_rectangle(n, |x| geometry(x).0 * geometry(x).1);
             let solid_angle = over_rectangle(n, |x| geometry(x).1);
             // E[X^2] = integral of (cos_r / pdf)^2 pdf: pdf = 1 / solid angle, or
             // d^2 / (cos_light area) per solid angle.
-            let second_solid = solid_angle * over_rectangle(n, |x| geometry(x).0.powi(2) * geometry(x).1);
+            let second_solid =
+                solid_angle * over_rectangle(n, |x| geometry(x).0.powi(2) * geometry(x).1);
             let second_area = area * over_rectangle(n, |x| (geometry(x).0 * geometry(x).1).powi(2));
             let predicted = [second_solid - mean * mean, second_area - mean * mean];
             let measured = [&lamp, &by_area].map(|light| {
@@ -475,9 +493,9 @@ mod tests {
                 let samples = 400_000;
                 let xs: Vec<f64> = (0..samples)
                     .map(|_| {
-                        light.sample(p, rng.next_2d()).map_or(0.0, |s| {
-                            f64::from(s.wi.dot(receiver).max(0.0) / s.pdf)
-                        })
+                        light
+                            .sample(p, rng.next_2d())
+                            .map_or(0.0, |s| f64::from(s.wi.dot(receiver).max(0.0) / s.pdf))
                     })
                     .collect();
                 let m = xs.iter().sum::<f64>() / samples as f64;
@@ -493,7 +511,10 @@ mod tests {
             }
             let ratio = measured[0].0 / measured[1].0;
             let bound = predicted[0] / predicted[1] * (1.0 + 5.0 * measured[0].1 / measured[0].0);
-            assert!(ratio < bound.min(0.5), "{p}: variance ratio {ratio}, bound {bound}");
+            assert!(
+                ratio < bound.min(0.5),
+                "{p}: variance ratio {ratio}, bound {bound}"
+            );
         }
     }
 
