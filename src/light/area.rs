@@ -1,6 +1,7 @@
 //! Area lights: emissive shapes, sampled by area (triangles, parallelograms), by the solid
-//! angle they subtend (rectangles, from points where that pays: [`SOLID_ANGLE_RANGE`]) or by
-//! the cone they subtend (spheres), one-sided on the side of the geometric normal.
+//! angle they subtend (rectangles, when asked: `Techniques::solid_angle_rectangles`, within
+//! [`SOLID_ANGLE_RANGE`]) or by the cone they subtend (spheres), one-sided on the side of the
+//! geometric normal.
 
 use std::f32::consts::PI;
 
