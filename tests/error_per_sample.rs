@@ -251,3 +251,44 @@ fn splatting_keeps_the_furnace_mean() {
     }
     assert!((image[0] - Vec3::ONE).abs().max_element() < 1e-4);
 }
+
+/// A matte floor 0.1 under a 2 x 2 lamp, seen from between them: from the floor the lamp
+/// subtends up to 5.7 sr, where sampling it by area (density d^2 / (cos A), d from 0.1 to 1.4)
+/// is far from the cos / d^2 it lights with, and sampling it uniformly in solid angle leaves
+/// only the floor's cosine to vary. The variance ratio is bounded as above (that the density
+/// is right is `light::area`'s unit tests' concern).
+#[test]
+fn solid_angle_rectangles_have_less_variance_close_to_a_lamp() {
+    let lamp_over_floor = || {
+        let mut scene = empty_scene(looking_down(Vec3::new(0.0, 0.0, 0.05), 90.0), 16, 16);
+        let floor = matte(&mut scene, Vec3::splat(0.5));
+        scene.materials.push(MaterialDesc::Null);
+        let null = scene.materials.len() - 1;
+        ground(&mut scene, floor);
+        let v = Vec3::new;
+        quad(
+            &mut scene,
+            [
+                v(-1., -1., 0.1),
+                v(-1., 1., 0.1),
+                v(1., 1., 0.1),
+                v(1., -1., 0.1),
+            ],
+            null,
+            Some(emitter(Vec3::ONE)),
+        );
+        scene
+    };
+    let techniques = |solid_angle_rectangles| Techniques {
+        solid_angle_rectangles,
+        ..Techniques::default()
+    };
+    let k = 16 * 16 * 3;
+    let ratio = variance_sum(lamp_over_floor, 8, techniques(true))
+        / variance_sum(lamp_over_floor, 8, techniques(false));
+    assert!(
+        ratio < f_lower_quantile(k),
+        "variance ratio solid angle / area {ratio:.3}, bound {:.3}",
+        f_lower_quantile(k)
+    );
+}

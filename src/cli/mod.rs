@@ -196,6 +196,10 @@ pub struct SceneArgs {
     /// Bounces before Russian roulette may end a path.
     #[arg(long)]
     pub rr_depth: Option<u32>,
+    /// Sample rectangle lamps uniformly in the solid angle they subtend (Ureña et al. 2013),
+    /// not by area: less noise close to a lamp, more instructions per light sample.
+    #[arg(long)]
+    pub solid_angle_rectangles: bool,
     /// Pixel reconstruction: filter importance sampling or splatting (default: the measured best).
     #[arg(long, value_enum)]
     pub film: Option<FilmArg>,
@@ -323,6 +327,7 @@ impl SceneArgs {
                 FilmArg::Fis => Reconstruction::FilterImportance,
                 FilmArg::Splat => Reconstruction::Splat,
             }),
+            solid_angle_rectangles: self.solid_angle_rectangles || defaults.solid_angle_rectangles,
         }
     }
 

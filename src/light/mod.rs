@@ -277,7 +277,7 @@ pub fn build_light_table(
     });
     let mut emitter_light = Vec::new();
     for shape in &geometry.emissive_shapes {
-        match AreaLight::new(shape, &geometry) {
+        match AreaLight::new(shape, &geometry, selection.solid_angle_rectangles) {
             Some(light) => {
                 power.push(light.power());
                 lights.push(Light::Area(light));

@@ -9,6 +9,7 @@ mod hash;
 pub mod pixel_sampler;
 pub mod rng;
 mod sobol;
+pub mod spherical_rectangle;
 pub mod warp;
 
 pub use alias::AliasTable;
