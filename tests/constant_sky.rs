@@ -71,6 +71,7 @@ fn almost_constant_map() -> ImageTexture {
         texels: Arc::new(texels),
         scale: Vec2::ONE,
         delta: Vec2::ZERO,
+        wrap: Default::default(),
     }
 }
 
@@ -177,6 +178,7 @@ fn leaving_a_constant_sky_to_bsdf_sampling_is_unbiased_and_has_less_variance() {
         texels: almost.texels,
         scale: almost.scale,
         delta: almost.delta,
+        wrap: almost.wrap,
     };
     assert!(!env(None).is_sampled_for_mis());
     assert!(env(Some(almost)).is_sampled_for_mis());

@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use foton::scene::desc::{
     ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, SceneDesc, SceneError, SpotFalloff,
-    ToneMap,
+    ToneMap, Wrap,
 };
 use foton::scene::lxs::load;
 use foton::texture::{TexParam, TextureNode};
@@ -529,6 +529,30 @@ fn imagemap_texture_decodes_with_gamma_gain_and_mapping() {
             ..
         }
     ));
+}
+
+#[test]
+fn imagemap_wrap_modes_are_read_and_an_unknown_one_warned() {
+    let dir = temp_folder("wrap");
+    write_image(&dir, "t.png");
+    let mut text = String::from("WorldBegin\n");
+    for wrap in ["black", "white", "clamp", "repeat", "mirror"] {
+        text += &format!(
+            "Texture \"{wrap}\" \"color\" \"imagemap\" \"string filename\" [\"t.png\"] \"string wrap\" [\"{wrap}\"]\n"
+        );
+    }
+    text +=
+        "Texture \"default\" \"color\" \"imagemap\" \"string filename\" [\"t.png\"]\nWorldEnd\n";
+    let s = load(&write(&dir, "scene.lxs", &text)).unwrap();
+    let wraps: Vec<Wrap> = s.textures.iter().map(|t| t.wrap).collect();
+    use Wrap::*;
+    assert_eq!(wraps, [Black, White, Clamp, Repeat, Repeat, Repeat]);
+    let w = messages(&s);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains(":6: warning: Texture \"mirror\": unknown wrap \"mirror\": repeat used"),
+        "{w:?}"
+    );
 }
 
 #[test]

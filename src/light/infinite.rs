@@ -305,6 +305,7 @@ mod tests {
             texels: Arc::new(texels),
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
+            wrap: Default::default(),
         };
         Environment::new(&InfiniteLight {
             radiance: Vec3::ONE,

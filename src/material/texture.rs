@@ -1,5 +1,5 @@
 //! The scene's textures at render time: the texture graph (procedural and composite textures)
-//! and the images its image nodes read, looked up with bilinear filtering and repeat wrapping.
+//! and the images its image nodes read, looked up with bilinear filtering and a wrap mode.
 
 use std::sync::Arc;
 
@@ -15,9 +15,22 @@ pub struct ImageTexture {
     pub height: u32,
     /// `width * height` texels, rows from the top.
     pub texels: Arc<Vec<Vec3>>,
-    /// (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped (repeat).
+    /// (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped by `wrap`.
     pub scale: Vec2,
     pub delta: Vec2,
+    pub wrap: Wrap,
+}
+
+/// What a lookup reads for texels outside the image: LuxRender 1.x's `wrap` (`repeat`,
+/// `black`, `white`, `clamp`; core/mipmap.h applies it to each texel the filter reads, so near
+/// an edge the bilinear filter blends the edge texels with black, white or themselves).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    #[default]
+    Repeat,
+    Black,
+    White,
+    Clamp,
 }
 
 /// Present only when the scene has textures.
@@ -51,11 +64,14 @@ impl TextureTable {
     }
 }
 
-/// Bilinear lookup with repeat wrapping; texel centres at half-integers.
+/// Bilinear lookup; texel centres at half-integers.
 pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
     let (w, h) = (texture.width as i64, texture.height as i64);
     if w == 0 || h == 0 || !st.is_finite() {
         return Vec3::ZERO;
+    }
+    if texture.wrap != Wrap::Repeat {
+        return sample_bilinear_bounded(texture, st);
     }
     let x = fraction(st.x) * w as f32 - 0.5;
     let y = fraction(st.y) * h as f32 - 0.5;
@@ -69,6 +85,27 @@ pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
     let texel = |i: i64, j: i64| texture.texels[(j * w + i) as usize];
     (texel(i0, j0) * (1.0 - fx) + texel(i1, j0) * fx) * (1.0 - fy)
         + (texel(i0, j1) * (1.0 - fx) + texel(i1, j1) * fx) * fy
+}
+
+/// Bilinear lookup where texels outside the image are black, white or the nearest edge texel.
+fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
+    let (w, h) = (texture.width as i64, texture.height as i64);
+    let x = st.x * w as f32 - 0.5;
+    let y = st.y * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    // `as` saturates, so a far-away st stays far outside (and `+ 1` cannot overflow).
+    let (i0, j0) = ((x0 as i64).clamp(-2, w + 1), (y0 as i64).clamp(-2, h + 1));
+    let texel = |i: i64, j: i64| {
+        let inside = (0..w).contains(&i) && (0..h).contains(&j);
+        match texture.wrap {
+            Wrap::Black if !inside => Vec3::ZERO,
+            Wrap::White if !inside => Vec3::ONE,
+            _ => texture.texels[(j.clamp(0, h - 1) * w + i.clamp(0, w - 1)) as usize],
+        }
+    };
+    (texel(i0, j0) * (1.0 - fx) + texel(i0 + 1, j0) * fx) * (1.0 - fy)
+        + (texel(i0, j0 + 1) * (1.0 - fx) + texel(i0 + 1, j0 + 1) * fx) * fy
 }
 
 /// `x.rem_euclid(1.0)` for finite `x`, without its call to `fmodf`: the exact value of
@@ -116,6 +153,7 @@ mod tests {
             texels: Arc::new(texels),
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
+            wrap: Wrap::Repeat,
         };
         // A grid over [-3, 3] that lands on texel centres, edges and integers, plus values
         // next to integers, where the fraction rounds to 0 or to 1.
@@ -134,5 +172,51 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn black_white_and_clamp_read_outside_texels_as_luxrender_does() {
+        let t = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(4.0, 5.0, 6.0),
+            Vec3::new(7.0, 8.0, 9.0),
+            Vec3::new(10.0, 11.0, 12.0),
+        ];
+        let texture = |wrap| ImageTexture {
+            width: 2,
+            height: 2,
+            texels: Arc::new(t.to_vec()),
+            scale: Vec2::ONE,
+            delta: Vec2::ZERO,
+            wrap,
+        };
+        let (black, white, clamp) = (
+            texture(Wrap::Black),
+            texture(Wrap::White),
+            texture(Wrap::Clamp),
+        );
+        // At a texel's centre the filter reads that texel alone, whatever the wrap.
+        for image in [&black, &white, &clamp] {
+            assert_eq!(sample_bilinear(image, Vec2::new(0.75, 0.25)), t[1]);
+        }
+        // At the image's corner (0, 0) the filter weighs four texels by 1/4, three outside.
+        let corner = Vec2::ZERO;
+        assert_eq!(sample_bilinear(&black, corner), t[0] * 0.25);
+        assert_eq!(
+            sample_bilinear(&white, corner),
+            Vec3::splat(0.75) + t[0] * 0.25
+        );
+        assert_eq!(sample_bilinear(&clamp, corner), t[0]);
+        // Halfway between the two top texels' centres, on the top edge: two rows, one outside.
+        let top = Vec2::new(0.5, 0.0);
+        assert_eq!(sample_bilinear(&black, top), (t[0] + t[1]) * 0.25);
+        assert_eq!(sample_bilinear(&clamp, top), (t[0] + t[1]) * 0.5);
+        // Far outside (and past the i64 range): black, white, the nearest corner texel.
+        for st in [Vec2::new(5.0, 7.0), Vec2::new(1e30, 1e30)] {
+            assert_eq!(sample_bilinear(&black, st), Vec3::ZERO);
+            assert_eq!(sample_bilinear(&white, st), Vec3::ONE);
+            assert_eq!(sample_bilinear(&clamp, st), t[3]);
+        }
+        assert_eq!(sample_bilinear(&clamp, Vec2::new(-1e30, -3.0)), t[0]);
     }
 }

@@ -619,6 +619,7 @@ fn image_texture(image: &ImageTexture) -> texture::ImageTexture {
         texels: image.texels.clone(),
         scale: image.scale,
         delta: image.delta,
+        wrap: image.wrap,
     }
 }
 

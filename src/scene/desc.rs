@@ -17,6 +17,7 @@ use glam::{Affine3A, Mat4, Vec2, Vec3};
 use crate::bsdf::lafortune::LafortuneFit;
 use crate::camera::{CameraType, pinhole};
 pub use crate::light::spot::SpotFalloff;
+pub use crate::material::texture::Wrap;
 use crate::settings::IntegratorKind;
 pub use crate::texture::TextureGraph;
 
@@ -245,9 +246,10 @@ pub struct ImageTexture {
     pub height: u32,
     /// `width * height` linear RGB texels (already multiplied by `gain`, `gamma` undone).
     pub texels: Arc<Vec<Vec3>>,
-    /// uv mapping: (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped (repeat).
+    /// uv mapping: (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped.
     pub scale: Vec2,
     pub delta: Vec2,
+    pub wrap: Wrap,
 }
 
 pub type TextureId = usize;

@@ -11,7 +11,7 @@ use super::sky::PreethamSky;
 use super::sun::{sun_radiance, sun_sin_theta_max};
 use crate::film::luminance;
 use crate::scene::desc::{
-    AreaLightDesc, ColorParam, ImageTexture, LightDesc, SceneError, ShapeDesc, SpotFalloff,
+    AreaLightDesc, ColorParam, ImageTexture, LightDesc, SceneError, ShapeDesc, SpotFalloff, Wrap,
 };
 use crate::texture::{ShadingPoint, TexParam, TextureNode};
 
@@ -226,6 +226,7 @@ impl Parser {
             texels: Arc::new(texels),
             scale: glam::Vec2::ONE,
             delta: glam::Vec2::ZERO,
+            wrap: Wrap::Repeat,
         });
         Ok(LightDesc::Infinite {
             radiance: Vec3::splat(gain),

@@ -13,7 +13,7 @@ use crate::bsdf::phong_distribution::PhongDistribution;
 use crate::material::bump::DEFAULT_SAMPLE_DISTANCE;
 use crate::scene::desc::{
     CarPaintLobeDesc, ColorParam, ImageTexture, Location, MaterialDesc, MicrofacetDistribution,
-    Roughness, SceneError,
+    Roughness, SceneError, Wrap,
 };
 use crate::scene::io::image;
 use crate::texture::{Mapping2D, TextureNode};
@@ -587,10 +587,26 @@ impl Parser {
             params.float("udelta")?.unwrap_or(0.0),
             params.float("vdelta")?.unwrap_or(0.0),
         );
+        // LuxRender 1.x's `wrap` (textures/imagemap.cpp): repeat (the default), black, white,
+        // clamp.
+        let wrap = match params.string("wrap")?.as_deref() {
+            None | Some("repeat") => Wrap::Repeat,
+            Some("black") => Wrap::Black,
+            Some("white") => Wrap::White,
+            Some("clamp") => Wrap::Clamp,
+            Some(other) => {
+                self.warn(
+                    line,
+                    format!("Texture \"{name}\": unknown wrap \"{other}\": repeat used"),
+                );
+                Wrap::Repeat
+            }
+        };
         let what = format!("Texture \"{name}\" \"{filename}\"");
         let id = self.load_image(name, &filename, gamma, gain, line, &what)?;
         self.scene.textures[id].scale = scale;
         self.scene.textures[id].delta = delta;
+        self.scene.textures[id].wrap = wrap;
         Ok(id)
     }
 
@@ -619,6 +635,7 @@ impl Parser {
             texels: Arc::new(decoded.texels),
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
+            wrap: Wrap::Repeat,
         });
         Ok(self.scene.textures.len() - 1)
     }

@@ -100,7 +100,6 @@ const IGNORED: &[&str] = &[
     "skipfactor",
     "tilecount",
     "usecooldown",
-    "wrap",
     "writeinterval",
 ];
 const IGNORED_PREFIXES: &[&str] = &["colorspace_", "write_"];

@@ -6,7 +6,7 @@ use glam::{DMat4, Mat3, Mat4, Vec3};
 
 use super::convert::Converter;
 use super::tree::Object;
-use crate::scene::desc::{AreaLightDesc, ImageTexture, LightDesc, SceneError, SpotFalloff};
+use crate::scene::desc::{AreaLightDesc, ImageTexture, LightDesc, SceneError, SpotFalloff, Wrap};
 use crate::scene::io::image as images;
 use std::sync::Arc;
 
@@ -97,6 +97,7 @@ pub fn emitter(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
                 texels: Arc::new(image.texels),
                 scale: glam::Vec2::ONE,
                 delta: glam::Vec2::ZERO,
+                wrap: Wrap::Repeat,
             });
             object.prop("filter_type");
             LightDesc::Infinite {

@@ -14,7 +14,7 @@ use super::convert::Converter;
 use super::tree::{Object, Value};
 use crate::scene::desc::{
     ColorParam, ImageTexture, MaterialDesc, MaterialId, MicrofacetDistribution, Roughness,
-    SceneError, TextureId,
+    SceneError, TextureId, Wrap,
 };
 use crate::scene::io::image as images;
 use crate::texture::{Mapping2D, TextureNode};
@@ -408,6 +408,7 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
             "to_uv rotation or shear ignored (only scale and translation apply)".into(),
         );
     }
+    let mut wrap = Wrap::Repeat;
     let image = match object.plugin.as_str() {
         "checkerboard" => {
             let c0 = cx.rgb(object, "color0", Vec3::splat(0.4));
@@ -427,8 +428,18 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
             let name = cx.string(object, "filename")?;
             let path = cx.tree.resolve(&name);
             let raw = cx.bool(object, "raw", false);
-            for p in ["filter_type", "wrap_mode", "format"] {
+            for p in ["filter_type", "format"] {
                 object.prop(p);
+            }
+            // Mitsuba 3's wrap modes: `repeat` (the default), `clamp` (the edge texel, as
+            // LuxRender's), `mirror`.
+            match cx.string(object, "wrap_mode").as_deref() {
+                None | Some("repeat") => {}
+                Some("clamp") => wrap = Wrap::Clamp,
+                Some(other) => cx.warn(
+                    &loc,
+                    format!("bitmap wrap_mode \"{other}\" not supported: repeat used"),
+                ),
             }
             // Integer images are sRGB-encoded unless raw; the sRGB curve read as gamma 2.2.
             let gamma = if raw { 1.0 } else { 2.2 };
@@ -461,6 +472,7 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
         texels: Arc::new(texels),
         scale,
         delta,
+        wrap,
     });
     // A colour parameter names a node of the texture graph: the image looked up at the uv.
     let id = cx.desc.texture_graph.push(TextureNode::Image {
