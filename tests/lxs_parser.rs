@@ -556,6 +556,25 @@ fn imagemap_wrap_modes_are_read_and_an_unknown_one_warned() {
 }
 
 #[test]
+fn glass_dispersion_and_thin_film_are_warned_not_silently_dropped() {
+    let dir = temp_folder("glass-options");
+    let path = write(
+        &dir,
+        "scene.lxs",
+        "WorldBegin\n\
+         Texture \"b\" \"float\" \"constant\" \"float value\" [0.05]\n\
+         Material \"glass\" \"texture cauchyb\" [\"b\"] \"float film\" [300] \"float filmindex\" [1.4]\n\
+         Material \"roughglass\" \"float cauchyb\" [0.01]\n\
+         Material \"glass\" \"float cauchyb\" [0] \"float film\" [0] \"float filmindex\" [1.5]\nWorldEnd\n",
+    );
+    let w = messages(&load(&path).unwrap());
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert!(w[0].contains(":3: warning: glass: dispersion (\"cauchyb\") is not rendered"));
+    assert!(w[1].contains(":3: warning: glass: the thin film (\"film\") is not rendered"));
+    assert!(w[2].contains(":4: warning: roughglass: dispersion (\"cauchyb\") is not rendered"));
+}
+
+#[test]
 fn jpg_gif_and_bmp_textures_decode() {
     let dir = temp_folder("formats");
     for name in ["t.jpg", "t.gif", "t.bmp"] {

@@ -137,11 +137,14 @@ impl Parser {
             "mirror" => MaterialDesc::Mirror {
                 reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
             },
-            "glass" => MaterialDesc::Dielectric {
-                reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
-                transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
-                ior: self.constant_float(params, "index", 1.5, line)?,
-            },
+            "glass" => {
+                self.warn_unrendered_glass_options(params, line, "glass")?;
+                MaterialDesc::Dielectric {
+                    reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
+                    transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
+                    ior: self.constant_float(params, "index", 1.5, line)?,
+                }
+            }
             // `materials/glass2.cpp`: a smooth interface (`architectural`: a thin sheet) whose
             // index the shape's volumes give (`volumes.rs`); 1 until then, as with no volumes.
             "glass2" => {
@@ -176,6 +179,7 @@ impl Parser {
                 let clamp = |r: f32| metal2_alpha(r.clamp(6e-3, 1.0));
                 let u = self.constant_float(params, "uroughness", 0.001, line)?;
                 let v = self.constant_float(params, "vroughness", 0.001, line)?;
+                self.warn_unrendered_glass_options(params, line, "roughglass")?;
                 MaterialDesc::RoughDielectric {
                     reflectance: self.color_param(params, "Kr", Vec3::ONE, line)?,
                     transmittance: self.color_param(params, "Kt", Vec3::ONE, line)?,
@@ -344,6 +348,31 @@ impl Parser {
                 alpha_v: blinn_alpha(v),
             }),
         })
+    }
+
+    /// LuxRender 1.x's glass and roughglass take Cauchy's B (`cauchyb`, in um^2: the index
+    /// n(lambda) = A + B / lambda^2, i.e. dispersion) and glass a thin film on its interface
+    /// (`film` thickness in nm, `filmindex`); foton renders neither (it is RGB, its glass one
+    /// index), so a non-zero value gets a warning rather than a silently different image.
+    fn warn_unrendered_glass_options(
+        &mut self,
+        params: &mut ParamList,
+        line: usize,
+        kind: &str,
+    ) -> Result<(), SceneError> {
+        if self.constant_float(params, "cauchyb", 0.0, line)? != 0.0 {
+            self.warn(
+                line,
+                format!("{kind}: dispersion (\"cauchyb\") is not rendered (foton is RGB)"),
+            );
+        }
+        if kind == "glass" {
+            if self.constant_float(params, "film", 0.0, line)? > 0.0 {
+                self.warn(line, "glass: the thin film (\"film\") is not rendered");
+            }
+            params.ignore("filmindex");
+        }
+        Ok(())
     }
 
     /// `shinymetal` (LuxRender 1.x `materials/shinymetal.cpp`): `Ks`, `Kr` (1), `uroughness`,
