@@ -137,6 +137,7 @@ fn sky_and_lamp() -> SceneDesc {
         texels: std::sync::Arc::new(vec![Vec3::splat(0.25), Vec3::splat(0.35)]),
         scale: glam::Vec2::ONE,
         delta: glam::Vec2::ZERO,
+        wrap: Default::default(),
     });
     scene.lights.push(LightDesc::Infinite {
         radiance: Vec3::ONE,
