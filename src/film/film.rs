@@ -386,9 +386,8 @@ pub struct FilmSample {
     pub radiance: Vec3,
 }
 
-/// Consecutive whole rows of the film's sums and counts, from `first_row`.
+/// Consecutive whole rows of the film's sums and counts.
 struct FilmRows<'a> {
-    first_row: usize,
     /// The rows held, and their pixels (y * width + x): worked out once, so that a sample
     /// finds whether its pixel is here by comparisons rather than a division by the width.
     rows: Range<usize>,
@@ -410,7 +409,6 @@ impl<'a> FilmRows<'a> {
     ) -> Self {
         let rows = first_row..first_row + counts.len() / width;
         Self {
-            first_row,
             pixels: rows.start * width..rows.end * width,
             rows,
             sums,
@@ -472,7 +470,7 @@ impl<'a> FilmRows<'a> {
                 let wy = &ys.weights[first - ys.first..end - ys.first];
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
-                let start = (first - self.first_row) * w + xs.first;
+                let start = (first - self.rows.start) * w + xs.first;
                 for (row, &fy) in wy.iter().enumerate() {
                     let sums = &mut self.sums[start + row * w..start + row * w + wx.len()];
                     add_to_row(sums, wx, fy, radiance);

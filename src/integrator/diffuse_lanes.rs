@@ -171,14 +171,12 @@ impl DiffuseQueue {
             }
             // `PathSlots::scatter`, its values computed by the kernel.
             *path.scatter_pdf = out.pdf.0[lane];
-            *path.throughput = out.throughput.get(lane);
-            *path.origin = out.origin.get(lane);
-            *path.direction = out.direction.get(lane);
-            *path.vertex = self.inputs.position.get(lane);
-            *path.depth += 1;
-            if !path.throughput.is_finite() || *path.throughput == Vec3::ZERO {
-                *path.alive = false;
-            }
+            path.continue_from(
+                self.inputs.position.get(lane),
+                out.origin.get(lane),
+                out.direction.get(lane),
+                out.throughput.get(lane),
+            );
             russian_roulette(&mut path, rr_depth);
         }
         self.len = 0;
@@ -209,7 +207,7 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     // Next-event estimation, unless no lane has a light sample (a scene lit by a constant sky
     // alone); `has_shadow` then stays false.
     if inputs.has_light.contains(&true) {
-        light_lanes(inputs, out, &frame, above);
+        light_lanes(inputs, out, &frame, f_lambert, above);
     }
 
     // The next ray (`Bsdf::sample_unit_wo`: `canonical`, `sample_cosine_lobe`,
@@ -303,10 +301,15 @@ impl LaneFrame {
 /// Next-event estimation's lanes (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
 /// `density_or_zero`, the power heuristic, `ShadowRay::towards`).
 #[inline(always)]
-fn light_lanes(inputs: &Inputs, out: &mut Outputs, frame: &LaneFrame, above: impl Fn(F8) -> M8) {
+fn light_lanes(
+    inputs: &Inputs,
+    out: &mut Outputs,
+    frame: &LaneFrame,
+    f_lambert: V8,
+    above: impl Fn(F8) -> M8,
+) {
     let (ng, p) = (inputs.geometric_normal, inputs.position);
     let zero = F8::splat(0.0);
-    let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
     let wi = inputs.light_wi;
     let wi_local = frame.to_local(wi);
     let leaks = (wi.dot(ng) * wi_local.z).le(zero);

@@ -151,12 +151,26 @@ impl PathSlots<'_> {
     /// Follows `direction` from `surface` with the throughput scaled by `weight`.
     #[inline]
     pub fn scatter(&mut self, surface: &SurfacePoint, direction: Vec3, weight: Vec3) {
-        *self.throughput *= weight;
-        *self.origin = offset_ray_origin(surface.position, surface.geometric_normal, direction);
+        let origin = offset_ray_origin(surface.position, surface.geometric_normal, direction);
+        self.continue_from(
+            surface.position,
+            origin,
+            direction,
+            *self.throughput * weight,
+        );
+    }
+
+    /// The path's next segment: the ray (`origin`, `direction`) leaving the scattering vertex
+    /// `vertex`, with the path's new `throughput`, one bounce deeper; a path whose throughput
+    /// is zero or not finite ends. The one place these fields are written after a bounce.
+    #[inline(always)]
+    pub fn continue_from(&mut self, vertex: Vec3, origin: Vec3, direction: Vec3, throughput: Vec3) {
+        *self.throughput = throughput;
+        *self.origin = origin;
         *self.direction = direction;
-        *self.vertex = surface.position;
+        *self.vertex = vertex;
         *self.depth += 1;
-        if !self.throughput.is_finite() || *self.throughput == Vec3::ZERO {
+        if !throughput.is_finite() || throughput == Vec3::ZERO {
             *self.alive = false;
         }
     }
