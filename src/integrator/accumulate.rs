@@ -26,9 +26,10 @@ pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<Shadow
         });
 }
 
-/// Finished paths add their radiance to the film (one sample at their film position, in slot
-/// order, so the sums do not depend on the thread count; the film splats them in parallel over
-/// bands of rows); the rest move to the front of the batch.
+/// Finished paths add their radiance to the film (one sample at their film position, in
+/// (bounce, slot) order, so the sums do not depend on the thread count; the film splats them in
+/// parallel over bands of rows, one bounce late, beside the next bounce's partition: see
+/// [`PathBatch::retire`]); the rest move to the front of the batch.
 pub fn retire_finished_paths(mut batch: ResMut<PathBatch>, mut film: ResMut<Film>) {
     batch.retire(|samples| film.add_samples(samples));
 }

@@ -4,7 +4,6 @@
 
 use bevy_ecs::prelude::Resource;
 use glam::{Vec2, Vec3};
-use rayon::prelude::*;
 
 use crate::accel::Hit;
 use crate::film::FilmSample;
@@ -23,8 +22,13 @@ macro_rules! path_batch {
             /// Where compaction gathers the live paths to, swapped in afterwards.
             spare: SpareColumns,
             partition: Partition,
-            /// The film samples of the paths that finished, reused from bounce to bounce.
+            /// The film samples of the paths that finished in this bounce's retire, reused from
+            /// bounce to bounce (it only grows; see [`Partition::split`]).
             finished: Vec<FilmSample>,
+            /// The film samples of the paths that finished in the previous bounce, not yet handed
+            /// to the film: the first `pending_len` of them.
+            pending: Vec<FilmSample>,
+            pending_len: usize,
         }
 
         #[derive(Default)]
@@ -45,23 +49,76 @@ macro_rules! path_batch {
                 )*
             }
 
-            /// Moves the first `live` paths of the partition's order to the front: one parallel
-            /// loop over blocks of the order, each gathering every field.
-            fn gather_live(&mut self, live: usize) {
-                let order = &self.partition.order[..live];
-                // One tuple element per field (rayon zips up to 12): the spare columns' blocks.
-                let targets = ($(self.spare.$field[..live].par_chunks_mut(GATHER_BLOCK),)*);
-                (order.par_chunks(GATHER_BLOCK), targets)
-                    .into_par_iter()
-                    .for_each(|(order, ($($field,)*))| {
-                        $(
-                            for (target, &slot) in $field.iter_mut().zip(order) {
-                                *target = self.$field[slot as usize].clone();
-                            }
-                        )*
-                    });
-                $(std::mem::swap(&mut self.$field, &mut self.spare.$field);)*
+            /// Partitions the first `len` slots into live and finished paths: the live ones move
+            /// to the front in their order, the finished ones' film samples go to `finished` in
+            /// slot order (see [`Partition::split`]). Returns how many are live.
+            fn split_live(&mut self, finished: &mut Vec<FilmSample>) -> usize {
+                let n = self.len;
+                let sources = LiveSources {
+                    $($field: &self.$field[..n],)*
+                };
+                let sample = |slot: usize| FilmSample {
+                    pixel: sources.pixel[slot],
+                    position: sources.film_position[slot],
+                    radiance: sources.radiance[slot],
+                };
+                let live = self.partition.split(
+                    sources.alive,
+                    finished,
+                    &sample,
+                    |live| Gather {
+                        sources,
+                        targets: LiveTargets {
+                            $($field: &mut self.spare.$field[..live],)*
+                        },
+                    },
+                );
+                if live < n {
+                    $(std::mem::swap(&mut self.$field, &mut self.spare.$field);)*
+                }
                 self.len = live;
+                live
+            }
+        }
+
+        /// The columns the live paths are read from.
+        #[derive(Clone, Copy)]
+        struct LiveSources<'a> {
+            $($field: &'a [$ty],)*
+        }
+
+        /// The spare columns' slots a run of partition blocks moves its live paths to.
+        struct LiveTargets<'a> {
+            $($field: &'a mut [$ty],)*
+        }
+
+        /// A run of partition blocks' live paths: where they are read from and moved to.
+        struct Gather<'a> {
+            sources: LiveSources<'a>,
+            targets: LiveTargets<'a>,
+        }
+
+        impl GatherLive for Gather<'_> {
+            fn split_at(self, mid: usize) -> (Self, Self) {
+                $(let $field = self.targets.$field.split_at_mut(mid);)*
+                (
+                    Gather {
+                        sources: self.sources,
+                        targets: LiveTargets { $($field: $field.0,)* },
+                    },
+                    Gather {
+                        sources: self.sources,
+                        targets: LiveTargets { $($field: $field.1,)* },
+                    },
+                )
+            }
+
+            fn gather(self, order: &[u32]) {
+                $(
+                    for (target, &slot) in self.targets.$field.iter_mut().zip(order) {
+                        *target = self.sources.$field[slot as usize].clone();
+                    }
+                )*
             }
         }
     };
@@ -95,34 +152,32 @@ path_batch! {
 }
 
 impl PathBatch {
-    /// Removes the finished paths, handing them to `finish` as film samples (in slot order, so
-    /// that results do not depend on scheduling), and moves the live ones to the front in their
-    /// order. Returns how many live.
+    /// Removes the finished paths and moves the live ones to the front in their order; hands the
+    /// finished paths to `finish` as film samples, in (bounce, slot) order, so that results do
+    /// not depend on scheduling. Returns how many live.
     ///
-    /// The partition writes the finished paths' film samples itself (no pass of its own over
-    /// them), and `finish` runs beside the gather of the live paths (`rayon::join`: one
-    /// fork-join where there were two loops one after the other, each thread taking work from
-    /// either, so neither waits at the end of the first).
-    pub fn retire(&mut self, finish: impl FnOnce(&[FilmSample]) + Send) -> usize {
+    /// A bounce's finished paths are handed over at the next bounce's retire, while that one
+    /// partitions its own (`rayon::join`: one fork-join per bounce for both, where the film's
+    /// adds had to wait for the partition before), and at once when no path is left, so that a
+    /// chunk's last retire leaves nothing pending. The partition moves each block's live paths
+    /// as it finds them, so the slots are read once, while in the cache.
+    pub fn retire(&mut self, mut finish: impl FnMut(&[FilmSample]) + Send) -> usize {
         let n = self.len;
-        let sample = |slot: usize| FilmSample {
-            pixel: self.pixel[slot],
-            position: self.film_position[slot],
-            radiance: self.radiance[slot],
+        let mut finished = std::mem::take(&mut self.finished);
+        let pending = std::mem::take(&mut self.pending);
+        let live = match &pending[..self.pending_len] {
+            [] => self.split_live(&mut finished),
+            samples => rayon::join(|| finish(samples), || self.split_live(&mut finished)).1,
         };
-        let live = self
-            .partition
-            .split(&self.alive[..n], &mut self.finished, &sample);
-        let finished = std::mem::take(&mut self.finished);
-        rayon::join(
-            || finish(&finished[..n - live]),
-            || {
-                if live < n {
-                    self.gather_live(live);
-                }
-            },
-        );
-        self.finished = finished;
+        if live == 0 {
+            finish(&finished[..n]);
+            self.pending_len = 0;
+        } else {
+            self.pending_len = n - live;
+        }
+        // This bounce's samples wait for the next; the buffer just handed over takes the next's.
+        self.pending = finished;
+        self.finished = pending;
         live
     }
 }
@@ -144,13 +199,16 @@ struct Partition {
 const PARTITION_BLOCK: usize = 4096;
 
 impl Partition {
-    /// Partitions `alive`'s slots: the live ones' numbers to `order`, the finished ones' film
-    /// samples (`sample(slot)`) to `finished`, both in slot order; returns how many are live.
-    fn split(
+    /// Partitions `alive`'s slots: the finished ones' film samples (`sample(slot)`) to
+    /// `finished` in slot order, and the live ones gathered, in order, by the target
+    /// `gather_to(live)` makes for the first `live` slots of the spare columns (nothing is moved
+    /// when all are live). Returns how many are live.
+    fn split<G: GatherLive>(
         &mut self,
         alive: &[bool],
         finished: &mut Vec<FilmSample>,
         sample: &(impl Fn(usize) -> FilmSample + Sync),
+        gather_to: impl FnOnce(usize) -> G,
     ) -> usize {
         // Counted on this thread: a chunk's flags are a few kilobytes, counted (vectorised) in
         // about a microsecond, less than a fork-join costs, which would also be one more point
@@ -162,6 +220,9 @@ impl Partition {
                 .map(|block| block.iter().filter(|a| **a).count()),
         );
         let live = self.counts.iter().sum();
+        if live == alive.len() {
+            return live;
+        }
         // Both only grow (to the chunk's size, on its first bounce), and only their first
         // `live` and `alive.len() - live` entries are used: setting their lengths anew at every
         // bounce would write each entry on one thread before the parallel writes below.
@@ -181,6 +242,7 @@ impl Partition {
             &mut self.order[..live],
             &mut finished[..alive.len() - live],
             sample,
+            gather_to(live),
         );
         live
     }
@@ -195,13 +257,15 @@ struct Slots<'a> {
 }
 
 impl Slots<'_> {
-    /// Writes the numbers of the live slots to `live` and the film samples of the others to
-    /// `finished`, in order. Halves the blocks between two tasks until one is left.
+    /// Writes the numbers of the live slots to `live` (scratch, one entry per live slot) and
+    /// has `target` gather those paths; writes the film samples of the others to `finished`; all
+    /// in order. Halves the blocks between two tasks until one is left.
     fn write(
         self,
         live: &mut [u32],
         finished: &mut [FilmSample],
         sample: &(impl Fn(usize) -> FilmSample + Sync),
+        target: impl GatherLive,
     ) {
         if self.counts.len() <= 1 {
             let (mut l, mut f) = (0, 0);
@@ -215,6 +279,7 @@ impl Slots<'_> {
                     f += 1;
                 }
             }
+            target.gather(live);
             return;
         }
         let half = self.counts.len() / 2;
@@ -222,6 +287,7 @@ impl Slots<'_> {
         let live_left = self.counts[..half].iter().sum();
         let (live_left, live_right) = live.split_at_mut(live_left);
         let (finished_left, finished_right) = finished.split_at_mut(split - live_left.len());
+        let (target_left, target_right) = target.split_at(live_left.len());
         let left = Slots {
             alive: &self.alive[..split],
             counts: &self.counts[..half],
@@ -233,14 +299,20 @@ impl Slots<'_> {
             first: self.first + split,
         };
         rayon::join(
-            || left.write(live_left, finished_left, sample),
-            || right.write(live_right, finished_right, sample),
+            || left.write(live_left, finished_left, sample, target_left),
+            || right.write(live_right, finished_right, sample, target_right),
         );
     }
 }
 
-/// Paths per task of the gather.
-const GATHER_BLOCK: usize = 1024;
+/// Where a run of partition blocks moves its live paths (the spare columns' slots for them),
+/// split along with the blocks.
+trait GatherLive: Send + Sized {
+    /// The targets of the first `mid` live paths and of the rest.
+    fn split_at(self, mid: usize) -> (Self, Self);
+    /// Moves the paths at `order`'s slots, in order, to the target's slots.
+    fn gather(self, order: &[u32]);
+}
 
 /// Closest hits of the path rays, slot for slot.
 #[derive(Resource, Default)]
@@ -305,10 +377,11 @@ fn grow<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
 mod tests {
     use super::*;
 
-    /// A second bounce that finishes fewer paths than the first: `finish` gets exactly this
-    /// bounce's samples (the partition's buffers keep their larger length from the first).
+    /// Three bounces, each finishing fewer paths than the one before: every retire hands over
+    /// exactly the previous bounce's samples (the buffers keep their larger lengths from the
+    /// first), the last, with no path left, its own as well, all in (bounce, slot) order.
     #[test]
-    fn a_later_retire_hands_over_only_its_own_finished_paths() {
+    fn retire_hands_over_each_bounce_once_in_order() {
         let n = 3 * PARTITION_BLOCK;
         let mut batch = PathBatch::default();
         batch.resize(n);
@@ -316,18 +389,28 @@ mod tests {
             batch.pixel[i] = i as u32;
             batch.alive[i] = i % 2 == 0;
         }
-        let mut first = Vec::new();
-        let live = batch.retire(|samples| first.extend(samples.iter().map(|s| s.pixel)));
-        assert_eq!(first.len(), n - live);
+        let mut handed: Vec<Vec<u32>> = Vec::new();
+        let live = batch.retire(|samples| handed.push(samples.iter().map(|s| s.pixel).collect()));
+        assert!(
+            handed.is_empty(),
+            "the first bounce's samples wait for the next retire"
+        );
         // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish now.
         for slot in 0..live {
             batch.alive[slot] = batch.pixel[slot] % 6 != 0;
         }
-        let expected: Vec<u32> = (0..n as u32).step_by(6).collect();
-        let mut second = Vec::new();
-        let still_live = batch.retire(|samples| second.extend(samples.iter().map(|s| s.pixel)));
-        assert_eq!(second, expected);
-        assert_eq!(still_live, live - expected.len());
+        let still_live =
+            batch.retire(|samples| handed.push(samples.iter().map(|s| s.pixel).collect()));
+        let odd: Vec<u32> = (1..n as u32).step_by(2).collect();
+        let sixes: Vec<u32> = (0..n as u32).step_by(6).collect();
+        assert_eq!(handed, vec![odd.clone()]);
+        assert_eq!(still_live, live - sixes.len());
+        batch.alive[..still_live].fill(false);
+        let rest: Vec<u32> = batch.pixel[..still_live].to_vec();
+        let none_live =
+            batch.retire(|samples| handed.push(samples.iter().map(|s| s.pixel).collect()));
+        assert_eq!(none_live, 0);
+        assert_eq!(handed, vec![odd, sixes, rest]);
     }
 
     #[test]
@@ -355,8 +438,15 @@ mod tests {
             assert_eq!(batch.radiance[i], Vec3::splat(batch.pixel[i] as f32));
             assert!(batch.alive[i]);
         }
+        assert!(finished.is_empty(), "handed over at the next retire");
+        batch.alive[..live].fill(false);
+        let none_live = batch.retire(|samples| {
+            finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
+        });
+        assert_eq!(none_live, 0);
         let expected_finished: Vec<u32> = (0..n as u32)
             .filter(|i| !expected_live.contains(i))
+            .chain(expected_live.iter().copied())
             .collect();
         assert_eq!(
             finished,
