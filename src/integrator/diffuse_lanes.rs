@@ -395,13 +395,15 @@ mod tests {
     use crate::sampling::warp::{power_heuristic, uniform_sphere};
 
     /// A vertex with random normals, directions, light and sample, and now and then what the
-    /// scalar path treats as a special case: no light, a delta light, a zero `wo`, the disk's
+    /// scalar path treats as a special case: no light, a delta light, a zero or tiny `wo`, the disk's
     /// centre, a NaN or out-of-range sample.
     fn random_vertex(rng: &mut PathRng, i: usize) -> DiffuseVertex {
         let n = uniform_sphere(rng.next_2d());
         let geometric_normal = (n + 0.4 * uniform_sphere(rng.next_2d())).normalize();
         let wo = match i % 13 {
             0 => Vec3::ZERO,
+            // Its squared length underflows to zero: normalising gives infinities, not NaNs.
+            6 => uniform_sphere(rng.next_2d()) * 1e-25,
             _ => uniform_sphere(rng.next_2d()) * (0.5 + rng.next_f32()),
         };
         let light = (!i.is_multiple_of(5)).then(|| LightPoint {
