@@ -87,13 +87,14 @@ struct Inputs {
 /// The kernel's results, one lane each.
 #[derive(Clone, Copy, Default)]
 struct Outputs {
-    /// The vertex's frame and `wo` were sound (else the path ends with nothing).
-    sound: M8,
+    /// A shadow ray, where the vertex's frame and `wo` were sound (else the path ends with
+    /// nothing: no shadow ray, no next ray).
     has_shadow: M8,
     shadow_origin: V8,
     shadow_t_max: F8,
     contribution: V8,
-    /// The BSDF sample made a next ray (else the path ends, keeping its shadow ray).
+    /// The vertex was sound and the BSDF sample made a next ray (else the path ends, keeping
+    /// its shadow ray).
     scattered: M8,
     throughput: V8,
     origin: V8,
@@ -107,6 +108,9 @@ pub struct DiffuseQueue {
     len: usize,
     slots: [usize; LANES],
     inputs: Inputs,
+    /// Where the kernel writes, kept from group to group (the kernel sets every field it
+    /// reads back; clearing them for each group cost a tenth of the write-back).
+    outputs: Outputs,
 }
 
 impl DiffuseQueue {
@@ -115,6 +119,7 @@ impl DiffuseQueue {
     }
 
     /// Queues the vertex of the block's path `slot`.
+    #[inline(always)]
     pub fn push(&mut self, slot: usize, vertex: DiffuseVertex) {
         let (lane, inputs) = (self.len, &mut self.inputs);
         self.slots[lane] = slot;
@@ -146,17 +151,12 @@ impl DiffuseQueue {
     /// Russian roulette after `rr_depth` bounces) and empties the queue. Lanes past the
     /// queue's length compute on stale inputs and are not read.
     pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
-        let mut out = Outputs::default();
-        vex::run(|| finish_lanes(&self.inputs, &mut out));
+        let out = &mut self.outputs;
+        vex::run(|| finish_lanes(&self.inputs, out));
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
-            let (mut path, mut shadow) = block.slots(slot);
-            if !out.sound.lane(lane) {
-                *path.alive = false;
-                continue;
-            }
             if out.has_shadow.lane(lane) {
-                shadow.emit(
-                    0,
+                block.shadows.emit_first(
+                    slot,
                     ShadowRay {
                         origin: out.shadow_origin.get(lane),
                         direction: self.inputs.light_wi.get(lane),
@@ -165,6 +165,7 @@ impl DiffuseQueue {
                     },
                 );
             }
+            let mut path = block.paths.slots(slot);
             if !out.scattered.lane(lane) {
                 *path.alive = false;
                 continue;
@@ -199,15 +200,17 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     let frame = LaneFrame::from_z(n);
     let wo_local = frame.to_local(wo);
     let (wo_unit, sound) = unit_direction(wo_local);
-    out.sound = sound;
     // `Lambertian::eval`: R / pi where both directions are above the surface.
     let above = |wi_z: F8| wo_unit.z.gt(zero) & wi_z.gt(zero);
     let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
 
     // Next-event estimation, unless no lane has a light sample (a scene lit by a constant sky
-    // alone); `has_shadow` then stays false.
+    // alone); `has_shadow` is then false.
     if inputs.has_light.contains(&true) {
         light_lanes(inputs, out, &frame, f_lambert, above);
+        out.has_shadow = out.has_shadow & sound;
+    } else {
+        out.has_shadow = M8::default();
     }
 
     // The next ray (`Bsdf::sample_unit_wo`: `canonical`, `sample_cosine_lobe`,
@@ -235,7 +238,7 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     let wi = frame.to_world(s);
     let reflects = (s.z * wo_local.z).gt(zero);
     let stays = (wi.dot(ng) * wo.dot(ng)).gt(zero);
-    out.scattered = sampled & reflects.eq(stays);
+    out.scattered = sound & sampled & reflects.eq(stays);
     out.pdf = sample_pdf;
     let cos = s.z.abs();
     out.throughput = inputs.throughput.mul(V8 {
@@ -392,13 +395,15 @@ mod tests {
     use crate::sampling::warp::{power_heuristic, uniform_sphere};
 
     /// A vertex with random normals, directions, light and sample, and now and then what the
-    /// scalar path treats as a special case: no light, a delta light, a zero `wo`, the disk's
+    /// scalar path treats as a special case: no light, a delta light, a zero or tiny `wo`, the disk's
     /// centre, a NaN or out-of-range sample.
     fn random_vertex(rng: &mut PathRng, i: usize) -> DiffuseVertex {
         let n = uniform_sphere(rng.next_2d());
         let geometric_normal = (n + 0.4 * uniform_sphere(rng.next_2d())).normalize();
         let wo = match i % 13 {
             0 => Vec3::ZERO,
+            // Its squared length underflows to zero: normalising gives infinities, not NaNs.
+            6 => uniform_sphere(rng.next_2d()) * 1e-25,
             _ => uniform_sphere(rng.next_2d()) * (0.5 + rng.next_f32()),
         };
         let light = (!i.is_multiple_of(5)).then(|| LightPoint {
@@ -435,7 +440,7 @@ mod tests {
     #[test]
     fn lanes_match_the_scalar_vertex_bit_for_bit() {
         let mut rng = PathRng::new(7, 0, 0);
-        let (mut shadows, mut scattered) = (0, 0);
+        let (mut shadows, mut scattered, mut unsound) = (0, 0, 0);
         for group in 0..500 {
             let vertices: Vec<DiffuseVertex> = (0..LANES)
                 .map(|lane| random_vertex(&mut rng, group * LANES + lane))
@@ -452,8 +457,11 @@ mod tests {
                     let frame = Frame::from_z(v.shading_normal);
                     let wo_local = frame.to_local(v.wo);
                     let wo_unit = unit_direction(wo_local);
-                    assert_eq!(out.sound.lane(lane), wo_unit.is_some(), "lane {lane}");
-                    let Some(wo_unit) = wo_unit else { continue };
+                    let Some(wo_unit) = wo_unit else {
+                        assert!(!out.has_shadow.lane(lane) && !out.scattered.lane(lane));
+                        unsound += 1;
+                        continue;
+                    };
                     let bsdf = Bsdf::Lambertian {
                         reflectance: v.reflectance,
                     };
@@ -510,6 +518,9 @@ mod tests {
             }
         }
         // Both outcomes common, so the comparisons above were exercised.
-        assert!(shadows > 1000 && scattered > 1000, "{shadows} {scattered}");
+        assert!(
+            shadows > 1000 && scattered > 1000 && unsound > 100,
+            "{shadows} {scattered} {unsound}"
+        );
     }
 }

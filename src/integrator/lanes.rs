@@ -134,7 +134,7 @@ impl M8 {
     }
 
     #[inline(always)]
-    pub fn lane(self, lane: usize) -> bool {
+    pub fn lane(&self, lane: usize) -> bool {
         self.0[lane] != 0
     }
 

@@ -31,30 +31,28 @@ pub fn shade_path_vertices(
             if !block.is_alive(i) {
                 continue;
             }
-            let (path, mut shadow) = block.slots(i);
-            match shade_vertex(&scene, hit.as_ref(), path) {
-                Vertex::Shaded(Some(ray)) => shadow.emit(0, ray),
-                Vertex::Shaded(None) => {}
-                Vertex::Diffuse(vertex) => {
-                    diffuse.push(i, vertex);
-                    if diffuse.is_full() {
-                        diffuse.finish(&mut block, scene.rr_depth);
-                    }
-                }
+            let path = block.paths.slots(i);
+            if let Some(ray) = shade_vertex(&scene, hit.as_ref(), path, &mut diffuse, i) {
+                block.shadows.emit_first(i, ray);
+            }
+            if diffuse.is_full() {
+                diffuse.finish(&mut block, scene.rr_depth);
             }
         }
         diffuse.finish(&mut block, scene.rr_depth);
     });
 }
 
-/// What became of a path vertex: shaded (with its shadow ray, if any), or a Lambertian vertex
-/// whose random numbers and light sample are drawn, left for [`DiffuseQueue::finish`].
-enum Vertex {
-    Shaded(Option<ShadowRay>),
-    Diffuse(DiffuseVertex),
-}
-
-fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Vertex {
+/// Shades a path vertex where it stands (returning its shadow ray, if any), or, at a
+/// Lambertian surface, draws its random numbers and light sample and queues it as the block's
+/// path `slot` in `diffuse`, for [`DiffuseQueue::finish`].
+fn shade_vertex(
+    scene: &Scene,
+    hit: Option<&Hit>,
+    mut path: PathSlots,
+    diffuse: &mut DiffuseQueue,
+    slot: usize,
+) -> Option<ShadowRay> {
     let lights = scene.lights;
     // Mitsuba 3.9 with `hide_emitters` drops a camera path whose first surface (past null ones)
     // is an emitter, its reflection included, and one that leaves the scene unscattered.
@@ -75,7 +73,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Vertex
             }
         }
         *path.alive = false;
-        return Vertex::Shaded(None);
+        return None;
     };
     let mut surface = scene
         .geometry
@@ -83,7 +81,7 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Vertex
     let wo = -*path.direction;
     if hidden && surface.emitter != NO_EMITTER {
         *path.alive = false;
-        return Vertex::Shaded(None);
+        return None;
     }
 
     if surface.emitter != NO_EMITTER
@@ -101,22 +99,26 @@ fn shade_vertex(scene: &Scene, hit: Option<&Hit>, mut path: PathSlots) -> Vertex
     let choice = path.rng.next_f32();
     let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
         path.pass_through(&surface);
-        return Vertex::Shaded(None);
+        return None;
     };
     let bsdf: &Bsdf = &bsdf;
     if *path.depth >= scene.max_depth {
         *path.alive = false;
-        return Vertex::Shaded(None);
+        return None;
     }
     let one_sided = scene.materials.is_one_sided(surface.material);
     if !face_forward(&mut surface, bsdf, wo, one_sided) {
         *path.alive = false;
-        return Vertex::Shaded(None);
+        return None;
     }
     if let Bsdf::Lambertian { reflectance } = *bsdf {
-        return Vertex::Diffuse(diffuse_vertex(scene, &surface, reflectance, wo, &mut path));
+        diffuse.push(
+            slot,
+            diffuse_vertex(scene, &surface, reflectance, wo, &mut path),
+        );
+        return None;
     }
-    Vertex::Shaded(shade_scattering(scene, &surface, bsdf, wo, path))
+    shade_scattering(scene, &surface, bsdf, wo, path)
 }
 
 /// The light sample and the BSDF sample at a scattering vertex, Russian roulette after.
@@ -202,6 +204,7 @@ fn shade_scattering(
 
 /// A Lambertian vertex's random numbers and light sample, drawn in the order the scalar path
 /// draws them (light choice, light point, lobe, direction), for [`DiffuseQueue::finish`].
+#[inline(always)]
 fn diffuse_vertex(
     scene: &Scene,
     surface: &SurfacePoint,

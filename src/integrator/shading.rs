@@ -204,6 +204,12 @@ const SHADE_BLOCK: usize = 256;
 /// each index is in bounds and drops the checks).
 pub struct PathBlock<'a> {
     pub hits: &'a [Option<Hit>],
+    pub paths: PathColumns<'a>,
+    pub shadows: ShadowColumns<'a>,
+}
+
+/// The block's path fields, one slice each.
+pub struct PathColumns<'a> {
     origin: &'a mut [Vec3],
     direction: &'a mut [Vec3],
     vertex: &'a mut [Vec3],
@@ -214,23 +220,35 @@ pub struct PathBlock<'a> {
     rng: &'a mut [PathRng],
     scatter_pdf: &'a mut [f32],
     alive: &'a mut [bool],
-    shadow_origin: &'a mut [Vec3],
-    shadow_direction: &'a mut [Vec3],
-    shadow_t_max: &'a mut [f32],
-    shadow_contribution: &'a mut [Vec3],
+}
+
+/// The block's shadow-ray fields, `rays_per_path` slots per path.
+pub struct ShadowColumns<'a> {
+    origin: &'a mut [Vec3],
+    direction: &'a mut [Vec3],
+    t_max: &'a mut [f32],
+    contribution: &'a mut [Vec3],
     rays_per_path: usize,
 }
 
 impl PathBlock<'_> {
     pub fn is_alive(&self, i: usize) -> bool {
-        self.alive[i]
+        self.paths.alive[i]
     }
 
-    /// Path `i`'s slots and its (emptied) shadow-ray slots. Always inlined: a call per path
-    /// cost about 70 instructions, most of them moving the fourteen references.
+    /// Path `i`'s slots and its (emptied) shadow-ray slots.
     #[inline(always)]
     pub fn slots(&mut self, i: usize) -> (PathSlots<'_>, ShadowSlots<'_>) {
-        let path = PathSlots {
+        (self.paths.slots(i), self.shadows.slots(i))
+    }
+}
+
+impl PathColumns<'_> {
+    /// Path `i`'s slots. Always inlined: a call per path cost about 70 instructions, most of
+    /// them moving the references.
+    #[inline(always)]
+    pub fn slots(&mut self, i: usize) -> PathSlots<'_> {
+        PathSlots {
             origin: &mut self.origin[i],
             direction: &mut self.direction[i],
             vertex: &mut self.vertex[i],
@@ -241,16 +259,33 @@ impl PathBlock<'_> {
             rng: &mut self.rng[i],
             scatter_pdf: &mut self.scatter_pdf[i],
             alive: &mut self.alive[i],
-        };
+        }
+    }
+}
+
+impl ShadowColumns<'_> {
+    /// Path `i`'s (emptied) shadow-ray slots.
+    #[inline(always)]
+    pub fn slots(&mut self, i: usize) -> ShadowSlots<'_> {
         let k = self.rays_per_path;
         let slots = i * k..(i + 1) * k;
-        let shadow = ShadowSlots {
-            origin: &mut self.shadow_origin[slots.clone()],
-            direction: &mut self.shadow_direction[slots.clone()],
-            t_max: &mut self.shadow_t_max[slots.clone()],
-            contribution: &mut self.shadow_contribution[slots],
-        };
-        (path, shadow)
+        ShadowSlots {
+            origin: &mut self.origin[slots.clone()],
+            direction: &mut self.direction[slots.clone()],
+            t_max: &mut self.t_max[slots.clone()],
+            contribution: &mut self.contribution[slots],
+        }
+    }
+
+    /// Puts `ray` in path `i`'s first shadow-ray slot: [`ShadowSlots::emit`] without forming
+    /// the path's slices, for the paths that have a ray (no slice is formed for the others).
+    #[inline(always)]
+    pub fn emit_first(&mut self, i: usize, ray: ShadowRay) {
+        let slot = i * self.rays_per_path;
+        self.origin[slot] = ray.origin;
+        self.direction[slot] = ray.direction;
+        self.t_max[slot] = ray.t_max;
+        self.contribution[slot] = ray.contribution;
     }
 }
 
@@ -326,21 +361,25 @@ pub fn shade_live_blocks(
                 let m = hits.len();
                 shade(PathBlock {
                     hits,
-                    origin: &mut origin[..m],
-                    direction: &mut direction[..m],
-                    vertex: &mut vertex[..m],
-                    throughput: &mut throughput[..m],
-                    radiance: &mut radiance[..m],
-                    depth: &mut depth[..m],
-                    pass_through: &mut pass_through[..m],
-                    rng: &mut rng[..m],
-                    scatter_pdf: &mut scatter_pdf[..m],
-                    alive: &mut alive[..m],
-                    shadow_origin: &mut shadow_origin[..m * k],
-                    shadow_direction: &mut shadow_direction[..m * k],
-                    shadow_t_max: &mut shadow_t_max[..m * k],
-                    shadow_contribution: &mut shadow_contribution[..m * k],
-                    rays_per_path: k,
+                    paths: PathColumns {
+                        origin: &mut origin[..m],
+                        direction: &mut direction[..m],
+                        vertex: &mut vertex[..m],
+                        throughput: &mut throughput[..m],
+                        radiance: &mut radiance[..m],
+                        depth: &mut depth[..m],
+                        pass_through: &mut pass_through[..m],
+                        rng: &mut rng[..m],
+                        scatter_pdf: &mut scatter_pdf[..m],
+                        alive: &mut alive[..m],
+                    },
+                    shadows: ShadowColumns {
+                        origin: &mut shadow_origin[..m * k],
+                        direction: &mut shadow_direction[..m * k],
+                        t_max: &mut shadow_t_max[..m * k],
+                        contribution: &mut shadow_contribution[..m * k],
+                        rays_per_path: k,
+                    },
                 });
             },
         );
