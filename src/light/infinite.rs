@@ -108,7 +108,9 @@ impl EnvironmentMap {
         let (w, h) = (self.image.width as usize, self.image.height as usize);
         let x = wrap(uv.x * w as f32 - 0.5, w as f32);
         let y = (uv.y * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
-        let (i, j) = ((x as usize).min(w - 1), (y as usize).min(h - 1));
+        // Through i32: f32 -> usize is a saturating conversion of a dozen instructions each.
+        let index = |t: f32, n: usize| ((t as i32).max(0) as usize).min(n - 1);
+        let (i, j) = (index(x, w), index(y, h));
         let (fx, fy) = (x - i as f32, y - j as f32);
         let (i1, j1) = (if i + 1 == w { 0 } else { i + 1 }, (j + 1).min(h - 1));
         let texel = |i: usize, j: usize| self.image.texels[j * w + i];
