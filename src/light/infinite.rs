@@ -285,7 +285,7 @@ fn wrap(x: f32, period: f32) -> f32 {
 
 /// Latitude-longitude: u = phi / 2pi around +z, v = theta / pi from +z. theta = acos(z) taken
 /// as atan2(sqrt(x^2 + y^2), z), accurate at the poles too, and both angles by [`atan2`]:
-/// libm's `atan2f` and `acosf` were 160 instructions of each escaped ray's lookup.
+/// libm's `atan2f` and `acosf` were about 180 instructions of each escaped ray's lookup.
 fn direction_to_uv(d: Vec3) -> Vec2 {
     let phi = atan2(d.y, d.x);
     let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
@@ -316,8 +316,7 @@ fn atan2(y: f32, x: f32) -> f32 {
         (0.0, r)
     };
     let z2 = z * z;
-    let poly = (((8.053_744_5e-2 * z2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2
-        - 3.333_295e-1)
+    let poly = (((8.053_744_5e-2 * z2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2 - 3.333_295e-1)
         * z2
         * z
         + z;

@@ -79,3 +79,46 @@ fn decode_8bit(image: &DynamicImage, gamma: f32, gain: f32) -> Option<Vec<Vec3>>
         .collect();
     Some(texels)
 }
+
+#[cfg(test)]
+mod tests {
+    use image::{GrayAlphaImage, LumaA, Rgba, RgbaImage};
+
+    use super::*;
+
+    /// Each channel as `decode` computed it before the table: `to_rgb32f`, then `powf`.
+    fn by_powf(image: &DynamicImage, gamma: f32, gain: f32) -> Vec<Vec3> {
+        image
+            .to_rgb32f()
+            .pixels()
+            .map(|pixel| Vec3::from_array(pixel.0).powf(gamma) * gain)
+            .collect()
+    }
+
+    #[test]
+    fn the_8bit_table_gives_powf_to_the_bit() {
+        // Every code in every channel, alpha varying (it is dropped), and grey with alpha.
+        let rgba = RgbaImage::from_fn(256, 3, |x, y| {
+            let code = x as u8;
+            Rgba([code, code.wrapping_mul(7), 255 - code, (y * 100) as u8])
+        });
+        let grey = GrayAlphaImage::from_fn(256, 1, |x, _| LumaA([x as u8, 9]));
+        for image in [
+            DynamicImage::ImageRgba8(rgba),
+            DynamicImage::ImageLumaA8(grey),
+        ] {
+            for (gamma, gain) in [(2.2, 1.0), (1.0, 0.5), (2.4, 3.0)] {
+                let table = decode_8bit(&image, gamma, gain).expect("an 8-bit image");
+                let bits = |texels: &[Vec3]| -> Vec<[u32; 3]> {
+                    texels
+                        .iter()
+                        .map(|t| t.to_array().map(f32::to_bits))
+                        .collect()
+                };
+                assert_eq!(bits(&table), bits(&by_powf(&image, gamma, gain)));
+            }
+        }
+        let wide = DynamicImage::ImageRgb16(image::ImageBuffer::new(2, 2));
+        assert!(decode_8bit(&wide, 2.2, 1.0).is_none());
+    }
+}
