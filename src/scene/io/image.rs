@@ -3,7 +3,10 @@
 use std::path::Path;
 
 use glam::Vec3;
-use image::{DynamicImage, ImageReader, Rgb, RgbImage};
+use image::{
+    DynamicImage, GrayAlphaImage, GrayImage, ImageReader, Luma, LumaA, Rgb, RgbImage, Rgba,
+    RgbaImage,
+};
 
 /// A decoded image: `width * height` linear RGB texels, rows from the top.
 pub struct LinearImage {
@@ -56,18 +59,28 @@ pub fn decode(path: &Path, gamma: f32, gain: f32) -> Result<LinearImage, String>
 /// A 512 x 512 texture took 786,432 `powf` calls, 50 M instructions: more than the BSDFs of a
 /// 4-spp render of the scene that uses it.
 fn decode_8bit(image: &DynamicImage, gamma: f32, gain: f32) -> Option<Vec<Vec3>> {
-    if !matches!(
-        image,
-        DynamicImage::ImageLuma8(_)
-            | DynamicImage::ImageLumaA8(_)
-            | DynamicImage::ImageRgb8(_)
-            | DynamicImage::ImageRgba8(_)
-    ) {
-        return None;
-    }
-    // Each code as `to_rgb32f` scales it, raised to `gamma`.
-    let codes = RgbImage::from_fn(256, 1, |code, _| Rgb([code as u8; 3]));
-    let linear: Vec<f32> = DynamicImage::ImageRgb8(codes)
+    // Each code as `to_rgb32f` scales it from this very layout (grey converts with other
+    // roundings than RGB), raised to `gamma`.
+    let codes = match image {
+        DynamicImage::ImageLuma8(_) => {
+            DynamicImage::ImageLuma8(GrayImage::from_fn(256, 1, |code, _| Luma([code as u8])))
+        }
+        DynamicImage::ImageLumaA8(_) => {
+            DynamicImage::ImageLumaA8(GrayAlphaImage::from_fn(256, 1, |code, _| {
+                LumaA([code as u8, u8::MAX])
+            }))
+        }
+        DynamicImage::ImageRgb8(_) => {
+            DynamicImage::ImageRgb8(RgbImage::from_fn(256, 1, |code, _| Rgb([code as u8; 3])))
+        }
+        DynamicImage::ImageRgba8(_) => {
+            DynamicImage::ImageRgba8(RgbaImage::from_fn(256, 1, |code, _| {
+                Rgba([code as u8, code as u8, code as u8, u8::MAX])
+            }))
+        }
+        _ => return None,
+    };
+    let linear: Vec<f32> = codes
         .to_rgb32f()
         .pixels()
         .map(|pixel| pixel.0[0].powf(gamma))
@@ -82,8 +95,6 @@ fn decode_8bit(image: &DynamicImage, gamma: f32, gain: f32) -> Option<Vec<Vec3>>
 
 #[cfg(test)]
 mod tests {
-    use image::{GrayAlphaImage, LumaA, Rgba, RgbaImage};
-
     use super::*;
 
     /// Each channel as `decode` computed it before the table: `to_rgb32f`, then `powf`.
@@ -97,15 +108,19 @@ mod tests {
 
     #[test]
     fn the_8bit_table_gives_powf_to_the_bit() {
-        // Every code in every channel, alpha varying (it is dropped), and grey with alpha.
+        // Every code in every channel of each 8-bit layout, alpha varying (it is dropped).
         let rgba = RgbaImage::from_fn(256, 3, |x, y| {
             let code = x as u8;
             Rgba([code, code.wrapping_mul(7), 255 - code, (y * 100) as u8])
         });
         let grey = GrayAlphaImage::from_fn(256, 1, |x, _| LumaA([x as u8, 9]));
+        let plain_grey = GrayImage::from_fn(256, 1, |x, _| Luma([x as u8]));
+        let rgb = RgbImage::from_fn(256, 1, |x, _| Rgb([x as u8, 3, 250]));
         for image in [
             DynamicImage::ImageRgba8(rgba),
             DynamicImage::ImageLumaA8(grey),
+            DynamicImage::ImageLuma8(plain_grey),
+            DynamicImage::ImageRgb8(rgb),
         ] {
             for (gamma, gain) in [(2.2, 1.0), (1.0, 0.5), (2.4, 3.0)] {
                 let table = decode_8bit(&image, gamma, gain).expect("an 8-bit image");
