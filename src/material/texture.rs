@@ -6,6 +6,7 @@ use std::sync::Arc;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
+use crate::math::floor;
 use crate::texture::{ShadingPoint, TexParam, TextureGraph};
 
 /// A linear RGB image with its uv mapping.
@@ -75,7 +76,7 @@ pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
     }
     let x = fraction(st.x) * w as f32 - 0.5;
     let y = fraction(st.y) * h as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
+    let (x0, y0) = (floor(x), floor(y));
     let (fx, fy) = (x - x0, y - y0);
     // With s, t in [0, 1], x in [-0.5, w - 0.5] and y likewise: the four texels' columns and
     // rows are at most one past either edge, so wrapping is one comparison each, not the
@@ -92,7 +93,7 @@ fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
     let (w, h) = (texture.width as i64, texture.height as i64);
     let x = st.x * w as f32 - 0.5;
     let y = st.y * h as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
+    let (x0, y0) = (floor(x), floor(y));
     let (fx, fy) = (x - x0, y - y0);
     // `as` saturates, so a far-away st stays far outside (and `+ 1` cannot overflow).
     let (i0, j0) = ((x0 as i64).clamp(-2, w + 1), (y0 as i64).clamp(-2, h + 1));
@@ -113,7 +114,7 @@ fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
 /// computes exactly and rounds once, so the two agree to the bit (but for -0.0 against +0.0
 /// at negative integers, which the caller's multiply and subtract make the same -0.5).
 fn fraction(x: f32) -> f32 {
-    x - x.floor()
+    x - floor(x)
 }
 
 /// Column (or row) `i` in -1..=n - 1 and the next one, wrapped into 0..n.

@@ -7,14 +7,16 @@
 
 use glam::{Vec2, Vec3};
 
+use crate::math::floor;
+
 /// True where a 2D checkerboard shows `tex1`: floor(s) + floor(t) even.
 pub fn checker_2d(st: Vec2) -> bool {
-    parity_even(st.x.floor() as i64 + st.y.floor() as i64)
+    parity_even(floor(st.x) as i64 + floor(st.y) as i64)
 }
 
 /// True where a 3D checkerboard shows `tex1`: floor(x) + floor(y) + floor(z) even.
 pub fn checker_3d(p: Vec3) -> bool {
-    parity_even(p.x.floor() as i64 + p.y.floor() as i64 + p.z.floor() as i64)
+    parity_even(floor(p.x) as i64 + floor(p.y) as i64 + floor(p.z) as i64)
 }
 
 fn parity_even(n: i64) -> bool {
