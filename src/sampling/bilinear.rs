@@ -9,13 +9,14 @@
 //! texels as vertices (`src/emitters/envmap.cpp`).
 //!
 //! Sampling: a cell is chosen with probability its integral over the total (a row of cells
-//! from the marginal, then a cell from that row's conditional); inside the cell, y from the
+//! from the marginal, then a cell from that row's conditional, each by an alias table: O(1),
+//! where inverting their CDFs took two binary searches); inside the cell, y from the
 //! marginal of the bilinear patch (linear in y), then x from the patch's conditional at that y
 //! (linear in x): pbrt-v4's `SampleBilinear` (`util/sampling.h`).
 
 use glam::Vec2;
 
-use super::{Distribution1D, ONE_MINUS_EPSILON};
+use super::{AliasTable, ONE_MINUS_EPSILON};
 
 #[derive(Clone, Debug)]
 pub struct Bilinear2D {
@@ -24,9 +25,9 @@ pub struct Bilinear2D {
     xs: Vec<f32>,
     ys: Vec<f32>,
     /// Over the rows of cells, by their integrals.
-    rows: Distribution1D,
+    rows: AliasTable,
     /// Per row of cells, over its cells by their integrals.
-    cells: Vec<Distribution1D>,
+    cells: Vec<AliasTable>,
     integral: f32,
 }
 
@@ -57,10 +58,10 @@ impl Bilinear2D {
         let row_integrals: Vec<f64> = cell_integrals.iter().map(|row| row.iter().sum()).collect();
         let to_f32 = |row: &[f64]| row.iter().map(|&v| v as f32).collect::<Vec<f32>>();
         Self {
-            rows: Distribution1D::new(&to_f32(&row_integrals)),
+            rows: AliasTable::new(&to_f32(&row_integrals)),
             cells: cell_integrals
                 .iter()
-                .map(|row| Distribution1D::new(&to_f32(row)))
+                .map(|row| AliasTable::new(&to_f32(row)))
                 .collect(),
             integral: row_integrals.iter().sum::<f64>() as f32,
             values,
