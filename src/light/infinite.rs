@@ -17,6 +17,7 @@ use glam::{Mat3, Vec2, Vec3};
 use super::LightSample;
 use crate::film::luminance;
 use crate::material::texture::ImageTexture;
+use crate::math;
 use crate::sampling::Bilinear2D;
 use crate::sampling::warp::{uniform_sphere, uniform_sphere_pdf};
 
@@ -284,50 +285,13 @@ fn wrap(x: f32, period: f32) -> f32 {
 }
 
 /// Latitude-longitude: u = phi / 2pi around +z, v = theta / pi from +z. theta = acos(z) taken
-/// as atan2(sqrt(x^2 + y^2), z), accurate at the poles too, and both angles by [`atan2`]:
+/// as atan2(sqrt(x^2 + y^2), z), accurate at the poles too, and both angles by [`math::atan2`]:
 /// libm's `atan2f` and `acosf` were about 180 instructions of each escaped ray's lookup.
 fn direction_to_uv(d: Vec3) -> Vec2 {
-    let phi = atan2(d.y, d.x);
+    let phi = math::atan2(d.y, d.x);
     let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-    let theta = atan2((d.x * d.x + d.y * d.y).sqrt(), d.z);
+    let theta = math::atan2((d.x * d.x + d.y * d.y).sqrt(), d.z);
     Vec2::new(phi / (2.0 * PI), theta / PI)
-}
-
-/// atan2(y, x) in [-pi, pi] within 5e-7 of libm's, two units in the last place at pi (tested): the octant reduction to a ratio
-/// r in [0, 1], then Cephes' `atanf` (its reduction of r above tan(pi/8) by
-/// atan r = pi/4 + atan((r - 1) / (r + 1)), and its minimax polynomial on |z| <= tan(pi/8),
-/// relative error 1.9e-7 there). atan2(0, 0) is 0, as libm's (for x = +0).
-fn atan2(y: f32, x: f32) -> f32 {
-    use std::f32::consts::FRAC_PI_2;
-    let (ay, ax) = (y.abs(), x.abs());
-    let swapped = ay > ax;
-    let (num, den) = if swapped { (ax, ay) } else { (ay, ax) };
-    if den == 0.0 {
-        return if x < 0.0 {
-            PI.copysign(y)
-        } else {
-            0.0f32.copysign(y)
-        };
-    }
-    let r = num / den;
-    let (base, z) = if r > 0.414_213_57 {
-        (std::f32::consts::FRAC_PI_4, (r - 1.0) / (r + 1.0))
-    } else {
-        (0.0, r)
-    };
-    let z2 = z * z;
-    let poly = (((8.053_744_5e-2 * z2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2 - 3.333_295e-1)
-        * z2
-        * z
-        + z;
-    let mut angle = base + poly;
-    if swapped {
-        angle = FRAC_PI_2 - angle;
-    }
-    if x < 0.0 {
-        angle = PI - angle;
-    }
-    angle.copysign(y)
 }
 
 fn uv_to_direction(uv: Vec2) -> (Vec3, f32) {
@@ -372,39 +336,6 @@ mod tests {
             map: Some(image),
             light_to_world: Mat3::from_rotation_x(0.3),
         })
-    }
-
-    /// The fast atan2 against libm's over directions all around the circle, the axes and the
-    /// diagonals (where the octant and Cephes reductions switch) included.
-    #[test]
-    fn atan2_is_libm_atan2_within_its_error_bound() {
-        let mut worst = 0.0f32;
-        let mut check = |y: f32, x: f32| {
-            worst = worst.max((atan2(y, x) - y.atan2(x)).abs());
-        };
-        for k in 0..200_000 {
-            let angle = k as f32 / 200_000.0 * 2.0 * PI - PI;
-            let (s, c) = angle.sin_cos();
-            check(s, c);
-            check(s * 1e-3, c * 1e-3);
-        }
-        for (y, x) in [
-            (0.0, 1.0),
-            (1.0, 0.0),
-            (0.0, -1.0),
-            (-1.0, 0.0),
-            (1.0, 1.0),
-            (1.0, -1.0),
-        ] {
-            check(y, x);
-            let t = 0.414_213_57f32;
-            check(t * y, x);
-            check(y, t * x);
-        }
-        // Two ulps of pi: the polynomial's error plus the roundings of pi/4 + p and pi - a.
-        assert!(worst <= 5e-7, "largest difference {worst:e}");
-        assert_eq!(atan2(0.0, 0.0), 0.0);
-        assert_eq!(atan2(-0.0, -1.0), -PI);
     }
 
     /// Light sampling alone estimates the sky's integral over the sphere, X = Y(L) / pdf.
