@@ -29,6 +29,19 @@ use common::bsdf_estimates::{
 };
 use common::bsdf_outputs::assert_finite_outputs;
 
+/// Energy conservation: at each `wo(theta)` the sampled albedo is at most 1, allowing five
+/// standard errors of its estimate (seed `seed`).
+fn assert_albedo_at_most_one(bsdf: &Bsdf, thetas: &[f32], seed: u64, label: &str) {
+    for &theta in thetas {
+        let (albedo, error) = sampled_albedo(bsdf, wo(theta), seed);
+        println!("{label} theta {theta}: {albedo} +- {error}");
+        assert!(
+            (albedo - 5.0 * error).max_element() <= 1.0,
+            "{label} {bsdf:?} theta {theta}: {albedo} +- {error}"
+        );
+    }
+}
+
 fn wo(theta: f32) -> Vec3 {
     Vec3::new(theta.sin() * 0.6, theta.sin() * 0.8, theta.cos())
 }
@@ -270,14 +283,7 @@ fn car_paint_conserves_energy_with_measured_lobes() {
     assert!(over.x > 1.5, "three full lobes: {over}");
     let cases = [ford_f8(), white, white_base];
     for (i, bsdf) in cases.iter().enumerate() {
-        for theta in [0.0f32, 0.7, 1.4] {
-            let (albedo, error) = sampled_albedo(bsdf, wo(theta), 200 + i as u64);
-            println!("{i} theta {theta}: {albedo} +- {error}");
-            assert!(
-                (albedo - 5.0 * error).max_element() <= 1.0,
-                "{bsdf:?} theta {theta}: {albedo}"
-            );
-        }
+        assert_albedo_at_most_one(bsdf, &[0.0, 0.7, 1.4], 200 + i as u64, &i.to_string());
     }
 }
 
@@ -546,14 +552,7 @@ fn substrate_and_plastic_white_furnace() {
     .iter()
     .enumerate()
     {
-        for theta in [0.0f32, 0.7, 1.2, 1.45] {
-            let (albedo, error) = sampled_albedo(bsdf, wo(theta), 300 + i as u64);
-            println!("{i} theta {theta}: {albedo} +- {error}");
-            assert!(
-                (albedo - 5.0 * error).max_element() <= 1.0,
-                "{bsdf:?} theta {theta}: {albedo} +- {error}"
-            );
-        }
+        assert_albedo_at_most_one(bsdf, &[0.0, 0.7, 1.2, 1.45], 300 + i as u64, &i.to_string());
     }
     let (normal, error) = sampled_albedo(&substrate(1.0, 0.05, 0.1, 0.1), Vec3::Z, 399);
     assert!(normal.x + 5.0 * error.x > 0.9, "{normal} +- {error}");
@@ -569,15 +568,8 @@ fn substrate_and_plastic_white_furnace() {
 #[test]
 fn measured_fits_reflect_less_than_they_receive() {
     for (i, kind) in MEASURED.iter().enumerate() {
-        let bsdf = lafortune(kind);
-        for theta in [0.0f32, 0.5, 1.0, 1.3, 1.5] {
-            let (albedo, error) = sampled_albedo(&bsdf, wo(theta), 400 + i as u64);
-            println!("{kind} theta {theta}: {albedo} +- {error}");
-            assert!(
-                (albedo - 5.0 * error).max_element() <= 1.0,
-                "{kind} theta {theta}: {albedo} +- {error}"
-            );
-        }
+        let thetas = [0.0, 0.5, 1.0, 1.3, 1.5];
+        assert_albedo_at_most_one(&lafortune(kind), &thetas, 400 + i as u64, kind);
     }
 }
 

@@ -21,7 +21,7 @@ use foton::camera::equirectangular::equirectangular_direction;
 use foton::camera::fisheye::{self, FisheyeFit, fisheye_direction};
 use foton::camera::{CameraType, equirectangular, orthographic, pinhole, thin_lens};
 use foton::scene::build::RenderOptions;
-use foton::scene::desc::{CameraDesc, MaterialDesc, SceneDesc};
+use foton::scene::desc::{CameraDesc, SceneDesc};
 use foton::settings::IntegratorKind;
 use glam::{Vec2, Vec3};
 
@@ -66,8 +66,7 @@ fn face_colour(axis: Vec3) -> Vec3 {
 /// The cube [-1, 1]^3 of null-material quads, each emitting its colour inwards.
 fn six_colour_box(camera: CameraDesc, width: u32, height: u32) -> SceneDesc {
     let mut scene = empty_scene(camera, width, height);
-    scene.materials.push(MaterialDesc::Null);
-    let null = scene.materials.len() - 1;
+    let null = null_material(&mut scene);
     for (axis, colour) in FACE_COLOURS {
         let u = if axis.x == 0.0 { Vec3::X } else { Vec3::Y };
         // u x v = -axis: the right-hand rule turns the normal inwards.

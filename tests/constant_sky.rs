@@ -86,8 +86,7 @@ fn floor_sphere_and_lamp(sky_map: bool) -> SceneDesc {
         alpha_v: 0.5,
     });
     let metal = scene.materials.len() - 1;
-    scene.materials.push(MaterialDesc::Null);
-    let null = scene.materials.len() - 1;
+    let null = null_material(&mut scene);
     ground(&mut scene, floor);
     sphere(&mut scene, Vec3::new(0.0, 0.0, 0.8), 0.8, metal);
     let v = Vec3::new;

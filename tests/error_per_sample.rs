@@ -63,8 +63,7 @@ fn variance_sum(scene: impl Fn() -> SceneDesc, spp: u32, techniques: Techniques)
 fn emitter_mis_weight_uses_the_last_scattering_vertex_after_a_null_surface() {
     let mut scene = empty_scene(looking_down(Vec3::new(0.0, 0.0, 0.5), 4.0), 8, 8);
     let floor = matte(&mut scene, Vec3::splat(0.5));
-    scene.materials.push(MaterialDesc::Null);
-    let null = scene.materials.len() - 1;
+    let null = null_material(&mut scene);
     let v = Vec3::new;
     ground(&mut scene, floor);
     let z = 1.0 - 5e-4;
@@ -74,17 +73,7 @@ fn emitter_mis_weight_uses_the_last_scattering_vertex_after_a_null_surface() {
         null,
         None,
     );
-    quad(
-        &mut scene,
-        [
-            v(-1., -1., 1.),
-            v(-1., 1., 1.),
-            v(1., 1., 1.),
-            v(1., -1., 1.),
-        ],
-        null,
-        Some(emitter(Vec3::ONE)),
-    );
+    downward_square(&mut scene, 1.0, 1.0, null, Some(emitter(Vec3::ONE)));
     let image = render(scene, &options(512, 4));
     let mean = image.iter().sum::<Vec3>() / image.len() as f32;
     let (a, h) = (1.0f32, 1.0f32);
@@ -108,8 +97,7 @@ fn emitter_mis_weight_uses_the_last_scattering_vertex_after_a_null_surface() {
 fn sky_and_lamp() -> SceneDesc {
     let mut scene = empty_scene(looking_down(Vec3::new(0.0, 0.0, 3.0), 40.0), 32, 32);
     let floor = matte(&mut scene, Vec3::splat(0.6));
-    scene.materials.push(MaterialDesc::Null);
-    let null = scene.materials.len() - 1;
+    let null = null_material(&mut scene);
     let v = Vec3::new;
     quad(
         &mut scene,
@@ -263,21 +251,9 @@ fn solid_angle_rectangles_have_less_variance_close_to_a_lamp() {
     let lamp_over_floor = || {
         let mut scene = empty_scene(looking_down(Vec3::new(0.0, 0.0, 0.05), 90.0), 16, 16);
         let floor = matte(&mut scene, Vec3::splat(0.5));
-        scene.materials.push(MaterialDesc::Null);
-        let null = scene.materials.len() - 1;
+        let null = null_material(&mut scene);
         ground(&mut scene, floor);
-        let v = Vec3::new;
-        quad(
-            &mut scene,
-            [
-                v(-1., -1., 0.1),
-                v(-1., 1., 0.1),
-                v(1., 1., 0.1),
-                v(1., -1., 0.1),
-            ],
-            null,
-            Some(emitter(Vec3::ONE)),
-        );
+        downward_square(&mut scene, 1.0, 0.1, null, Some(emitter(Vec3::ONE)));
         scene
     };
     let techniques = |solid_angle_rectangles| Techniques {

@@ -185,22 +185,10 @@ fn area_light_reflection_matches_the_analytic_answer() {
         let mut scene = empty_scene(camera, 8, 8);
         scene.materials.push(material);
         let floor = scene.materials.len() - 1;
-        scene.materials.push(MaterialDesc::Null);
-        let null = scene.materials.len() - 1;
-        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let null = null_material(&mut scene);
         ground(&mut scene, floor);
-        // Winding with the normal down: the rectangle emits towards the floor.
-        quad(
-            &mut scene,
-            [
-                v(-half, -half, 1.),
-                v(-half, half, 1.),
-                v(half, half, 1.),
-                v(half, -half, 1.),
-            ],
-            null,
-            Some(emitter(Vec3::ONE)),
-        );
+        // Its normal down: the rectangle emits towards the floor.
+        downward_square(&mut scene, half, 1.0, null, Some(emitter(Vec3::ONE)));
         let image = render(scene, &options(512, 4));
         let mean = image.iter().sum::<Vec3>() / image.len() as f32;
         for c in mean.to_array() {
@@ -220,27 +208,15 @@ fn area_light_reflection_matches_the_analytic_answer() {
 /// only where a shadow ray is wrongly stopped (a stopped ray there blackens the whole floor).
 #[test]
 fn shadow_rays_pass_through_null_surfaces() {
-    use foton::scene::desc::MaterialDesc;
     let v = Vec3::new;
     let scene = |with_null: bool| {
         let eye = v(0.0, 0.0, 0.5);
         let camera = looking_down(eye, 60.0);
         let mut scene = empty_scene(camera, 8, 8);
         let floor = matte(&mut scene, Vec3::splat(0.5));
-        scene.materials.push(MaterialDesc::Null);
-        let null = scene.materials.len() - 1;
+        let null = null_material(&mut scene);
         ground(&mut scene, floor);
-        quad(
-            &mut scene,
-            [
-                v(-1., -1., 3.),
-                v(-1., 1., 3.),
-                v(1., 1., 3.),
-                v(1., -1., 3.),
-            ],
-            null,
-            Some(emitter(Vec3::ONE)),
-        );
+        downward_square(&mut scene, 1.0, 3.0, null, Some(emitter(Vec3::ONE)));
         scene.lights.push(LightDesc::Point {
             position: v(0.3, 0.0, 2.0),
             intensity: Vec3::splat(2.0),

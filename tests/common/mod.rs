@@ -89,6 +89,12 @@ pub fn matte(scene: &mut SceneDesc, albedo: Vec3) -> MaterialId {
     scene.materials.len() - 1
 }
 
+/// An invisible material (`Null`): light passes through surfaces that have it.
+pub fn null_material(scene: &mut SceneDesc) -> MaterialId {
+    scene.materials.push(MaterialDesc::Null);
+    scene.materials.len() - 1
+}
+
 pub fn sphere(scene: &mut SceneDesc, centre: Vec3, radius: f32, material: MaterialId) {
     scene.shapes.push(ShapeDesc {
         geometry: Geometry::Sphere { radius },
@@ -132,6 +138,29 @@ pub fn quad(
     });
 }
 
+/// The square [-half, half]^2 at height `z`, wound with its normal down (-z): a ceiling, or with
+/// `area_light` a lamp shining on the floor.
+pub fn downward_square(
+    scene: &mut SceneDesc,
+    half: f32,
+    z: f32,
+    material: MaterialId,
+    area_light: Option<AreaLightDesc>,
+) {
+    let v = |x: f32, y: f32| Vec3::new(x, y, z);
+    quad(
+        scene,
+        [
+            v(-half, -half),
+            v(-half, half),
+            v(half, half),
+            v(half, -half),
+        ],
+        material,
+        area_light,
+    );
+}
+
 pub fn emitter(radiance: Vec3) -> AreaLightDesc {
     AreaLightDesc { radiance }
 }
@@ -158,8 +187,7 @@ pub fn test_box() -> SceneDesc {
         alpha_v: 0.1,
     });
     let metal = scene.materials.len() - 1;
-    scene.materials.push(MaterialDesc::Null);
-    let null = scene.materials.len() - 1;
+    let null = null_material(&mut scene);
     let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     quad(
         &mut scene,
@@ -172,17 +200,7 @@ pub fn test_box() -> SceneDesc {
         white,
         None,
     );
-    quad(
-        &mut scene,
-        [
-            v(-1., -1., 2.),
-            v(-1., 1., 2.),
-            v(1., 1., 2.),
-            v(1., -1., 2.),
-        ],
-        white,
-        None,
-    );
+    downward_square(&mut scene, 1.0, 2.0, white, None);
     quad(
         &mut scene,
         [v(-1., 1., 0.), v(1., 1., 0.), v(1., 1., 2.), v(-1., 1., 2.)],
