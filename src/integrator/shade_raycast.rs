@@ -11,7 +11,8 @@ use glam::{Vec2, Vec3};
 
 use super::batch::{PathBatch, ShadowBatch};
 use super::shading::{
-    PathBlock, PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_blocks,
+    PathBlock, PathColumns, PathSlots, Scene, ShadingInputs, ShadowRay, face_forward,
+    shade_live_blocks,
 };
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
@@ -54,9 +55,9 @@ fn shade_block(scene: &Scene, block: &mut PathBlock) {
     let mut lit = Vec::with_capacity(hits.len());
     for (i, hit) in hits.iter().enumerate() {
         if block.is_alive(i)
-            && let Some((surface, lobe)) = shade_hit(scene, hit.as_ref(), block.paths.slots(i))
+            && let Some((surface, lobe, throughput)) =
+                shade_hit(scene, hit.as_ref(), block.paths.slots(i))
         {
-            let throughput = *block.paths.slots(i).throughput;
             lit.push(LitPoint {
                 path: i,
                 surface,
@@ -68,17 +69,17 @@ fn shade_block(scene: &Scene, block: &mut PathBlock) {
     for (slot, light) in scene.lights.lights.iter().enumerate() {
         // A point light, the ray caster's usual one, gets its own loop with its sample inlined.
         match light {
-            Light::Point(point) => gather(block, &lit, slot, |surface, _| {
+            Light::Point(point) => gather(block, &lit, slot, |surface, _, _| {
                 point.sample(surface.position)
             }),
-            _ => gather(block, &lit, slot, |surface, path| {
+            _ => gather(block, &lit, slot, |surface, paths, i| {
                 // A point, spot or distant light has one direction to sample: no random
                 // numbers drawn for it (the path ends here, so nothing later depends on the
                 // stream's position).
                 let u = if light.is_delta() {
                     Vec2::ZERO
                 } else {
-                    path.rng.next_2d()
+                    paths.slots(i).rng.next_2d()
                 };
                 light.sample(surface.position, u)
             }),
@@ -87,17 +88,18 @@ fn shade_block(scene: &Scene, block: &mut PathBlock) {
 }
 
 /// One light's shadow rays in `slot` for each of the block's shading points: `sample` gives
-/// the light's sample at a point (it may draw from the path's stream).
+/// the light's sample at a point (it may draw from the stream of the block's path `i`; the
+/// path's slots are formed only then).
 #[inline(always)]
 fn gather(
     block: &mut PathBlock,
     lit: &[LitPoint],
     slot: usize,
-    mut sample: impl FnMut(&SurfacePoint, &mut PathSlots) -> Option<LightSample>,
+    mut sample: impl FnMut(&SurfacePoint, &mut PathColumns, usize) -> Option<LightSample>,
 ) {
     for point in lit {
         let surface = &point.surface;
-        let Some(sample) = sample(surface, &mut block.paths.slots(point.path)) else {
+        let Some(sample) = sample(surface, &mut block.paths, point.path) else {
             continue;
         };
         let cos = sample.wi.dot(surface.shading_normal);
@@ -117,12 +119,13 @@ fn gather(
 
 /// Shades one path's hit: light seen directly, a miss, a pass-through surface or a mirror or
 /// glass bounce are settled here; a surface to light by the ray caster's lobes is returned
-/// with its lobe (the path ends there: its shadow rays carry the rest).
+/// with its lobe and the path's throughput (the path ends there: its shadow rays carry the
+/// rest).
 fn shade_hit(
     scene: &Scene,
     hit: Option<&Hit>,
     mut path: PathSlots,
-) -> Option<(SurfacePoint, Lobe)> {
+) -> Option<(SurfacePoint, Lobe, Vec3)> {
     let Some(hit) = hit else {
         if let Some((_, environment)) = scene.lights.environment() {
             path.add_radiance(*path.throughput * environment.radiance(*path.direction));
@@ -174,7 +177,7 @@ fn shade_hit(
 
     let lobe = Lobe::new(&bsdf, surface.shading_normal, wo);
     *path.alive = false;
-    Some((surface, lobe))
+    Some((surface, lobe, *path.throughput))
 }
 
 /// The ray caster's reflection models: Lambert, and for metals a normalised Phong lobe
