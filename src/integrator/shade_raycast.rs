@@ -10,11 +10,15 @@ use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
 use super::batch::{PathBatch, ShadowBatch};
-use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_paths};
+use super::shading::{
+    PathBlock, PathColumns, PathSlots, Scene, ShadingInputs, ShadowRay, face_forward,
+    shade_live_blocks,
+};
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
-use crate::light::LightTable;
+use crate::light::{Light, LightSample, LightTable};
 use crate::shape::geometry::NO_EMITTER;
+use crate::shape::surface::SurfacePoint;
 
 /// The ray caster needs one shadow ray per light at each shaded point.
 pub fn shadow_rays_per_path(lights: &LightTable) -> usize {
@@ -27,22 +31,101 @@ pub fn shade_raycast_hits(
     mut shadows: ResMut<ShadowBatch>,
 ) {
     let scene = inputs.scene();
-    shade_live_paths(
-        inputs.hits(),
-        &mut batch,
-        &mut shadows,
-        |hit, path, mut shadow| {
-            shade_hit(&scene, hit, path, |slot, ray| shadow.emit(slot, ray));
-        },
-    );
+    shade_live_blocks(inputs.hits(), &mut batch, &mut shadows, |mut block| {
+        shade_block(&scene, &mut block);
+    });
 }
 
+/// A path's shading point whose direct light is still to gather: its slot in the block, the
+/// surface (normals facing the viewer), the lobe and the path's throughput.
+struct LitPoint {
+    path: usize,
+    surface: SurfacePoint,
+    lobe: Lobe,
+    throughput: Vec3,
+}
+
+/// Shades a block in two passes: each live path's hit first (its surface and lobe, or its
+/// end), then each light over all the block's shading points, so that the light's kind is
+/// matched once per block, not once per point. A path draws its random numbers in the same
+/// order as one shaded alone (its BSDF choice, then one 2D sample per area-like light in the
+/// table's order), so the image is the same to the bit.
+fn shade_block(scene: &Scene, block: &mut PathBlock) {
+    let hits = block.hits;
+    let mut lit = Vec::with_capacity(hits.len());
+    for (i, hit) in hits.iter().enumerate() {
+        if block.is_alive(i)
+            && let Some((surface, lobe, throughput)) =
+                shade_hit(scene, hit.as_ref(), block.paths.slots(i))
+        {
+            lit.push(LitPoint {
+                path: i,
+                surface,
+                lobe,
+                throughput,
+            });
+        }
+    }
+    for (slot, light) in scene.lights.lights.iter().enumerate() {
+        // A point light, the ray caster's usual one, gets its own loop with its sample inlined.
+        match light {
+            Light::Point(point) => gather(block, &lit, slot, |surface, _, _| {
+                point.sample(surface.position)
+            }),
+            _ => gather(block, &lit, slot, |surface, paths, i| {
+                // A point, spot or distant light has one direction to sample: no random
+                // numbers drawn for it (the path ends here, so nothing later depends on the
+                // stream's position).
+                let u = if light.is_delta() {
+                    Vec2::ZERO
+                } else {
+                    paths.slots(i).rng.next_2d()
+                };
+                light.sample(surface.position, u)
+            }),
+        }
+    }
+}
+
+/// One light's shadow rays in `slot` for each of the block's shading points: `sample` gives
+/// the light's sample at a point (it may draw from the stream of the block's path `i`; the
+/// path's slots are formed only then).
+#[inline(always)]
+fn gather(
+    block: &mut PathBlock,
+    lit: &[LitPoint],
+    slot: usize,
+    mut sample: impl FnMut(&SurfacePoint, &mut PathColumns, usize) -> Option<LightSample>,
+) {
+    for point in lit {
+        let surface = &point.surface;
+        let Some(sample) = sample(surface, &mut block.paths, point.path) else {
+            continue;
+        };
+        let cos = sample.wi.dot(surface.shading_normal);
+        if sample.pdf <= 0.0 || cos <= 0.0 || sample.wi.dot(surface.geometric_normal) <= 0.0 {
+            continue;
+        }
+        let contribution =
+            point.throughput * point.lobe.eval(sample.wi) * cos * sample.radiance / sample.pdf;
+        if contribution.is_finite() && contribution != Vec3::ZERO {
+            block.shadows.slots(point.path).emit(
+                slot,
+                ShadowRay::towards(surface, sample.wi, sample.distance, contribution),
+            );
+        }
+    }
+}
+
+/// Shades one path's hit: light seen directly, a miss, a pass-through surface or a mirror or
+/// glass bounce are settled here; a surface to light by the ray caster's lobes is returned
+/// with its lobe and the path's throughput (the path ends there: its shadow rays carry the
+/// rest).
 fn shade_hit(
     scene: &Scene,
     hit: Option<&Hit>,
     mut path: PathSlots,
-    mut emit_shadow: impl FnMut(usize, ShadowRay),
-) {
+) -> Option<(SurfacePoint, Lobe, Vec3)> {
     let Some(hit) = hit else {
         if let Some((_, environment)) = scene.lights.environment() {
             path.add_radiance(*path.throughput * environment.radiance(*path.direction));
@@ -51,7 +134,7 @@ fn shade_hit(
             path.add_radiance(*path.throughput * sun.radiance_towards(*path.direction));
         }
         *path.alive = false;
-        return;
+        return None;
     };
     let mut surface = scene
         .geometry
@@ -66,19 +149,19 @@ fn shade_hit(
     let choice = path.rng.next_f32();
     let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
         path.pass_through(&surface);
-        return;
+        return None;
     };
     let one_sided = scene.materials.is_one_sided(surface.material);
     if !face_forward(&mut surface, &bsdf, wo, one_sided) {
         *path.alive = false;
-        return;
+        return None;
     }
 
     if bsdf.is_delta() {
         // Mirror and glass: follow the reflected or refracted ray (glass picks one by Fresnel).
         if *path.depth >= scene.max_depth {
             *path.alive = false;
-            return;
+            return None;
         }
         let frame = crate::bsdf::frame::Frame::from_z(surface.shading_normal);
         let (u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
@@ -89,35 +172,12 @@ fn shade_hit(
             }
             _ => *path.alive = false,
         }
-        return;
+        return None;
     }
 
     let lobe = Lobe::new(&bsdf, surface.shading_normal, wo);
-    for (slot, light) in scene.lights.lights.iter().enumerate() {
-        // A point, spot or distant light has one direction to sample: no random numbers drawn
-        // for it (the path ends here, so nothing later depends on the stream's position).
-        let u = if light.is_delta() {
-            Vec2::ZERO
-        } else {
-            path.rng.next_2d()
-        };
-        let Some(sample) = light.sample(surface.position, u) else {
-            continue;
-        };
-        let cos = sample.wi.dot(surface.shading_normal);
-        if sample.pdf <= 0.0 || cos <= 0.0 || sample.wi.dot(surface.geometric_normal) <= 0.0 {
-            continue;
-        }
-        let contribution =
-            *path.throughput * lobe.eval(sample.wi) * cos * sample.radiance / sample.pdf;
-        if contribution.is_finite() && contribution != Vec3::ZERO {
-            emit_shadow(
-                slot,
-                ShadowRay::towards(&surface, sample.wi, sample.distance, contribution),
-            );
-        }
-    }
     *path.alive = false;
+    Some((surface, lobe, *path.throughput))
 }
 
 /// The ray caster's reflection models: Lambert, and for metals a normalised Phong lobe

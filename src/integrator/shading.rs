@@ -235,12 +235,6 @@ impl PathBlock<'_> {
     pub fn is_alive(&self, i: usize) -> bool {
         self.paths.alive[i]
     }
-
-    /// Path `i`'s slots and its (emptied) shadow-ray slots.
-    #[inline(always)]
-    pub fn slots(&mut self, i: usize) -> (PathSlots<'_>, ShadowSlots<'_>) {
-        (self.paths.slots(i), self.shadows.slots(i))
-    }
 }
 
 impl PathColumns<'_> {
@@ -287,25 +281,6 @@ impl ShadowColumns<'_> {
         self.t_max[slot] = ray.t_max;
         self.contribution[slot] = ray.contribution;
     }
-}
-
-/// Runs `shade` on every live path, in parallel, with its hit, its slots and its (emptied)
-/// shadow-ray slots.
-pub fn shade_live_paths(
-    hits: &[Option<Hit>],
-    batch: &mut PathBatch,
-    shadows: &mut ShadowBatch,
-    shade: impl Fn(Option<&Hit>, PathSlots, ShadowSlots) + Sync,
-) {
-    shade_live_blocks(hits, batch, shadows, |mut block| {
-        let hits = block.hits;
-        for (i, hit) in hits.iter().enumerate() {
-            if block.is_alive(i) {
-                let (path, shadow) = block.slots(i);
-                shade(hit.as_ref(), path, shadow);
-            }
-        }
-    });
 }
 
 /// Runs `shade` on the blocks of [`SHADE_BLOCK`] consecutive paths, in parallel; each block
