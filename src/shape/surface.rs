@@ -84,7 +84,10 @@ impl SceneGeometry {
             None => {
                 let local = sphere.world_to_object.transform_point3(position);
                 // Normals transform by the inverse transpose.
-                (local, sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z))
+                (
+                    local,
+                    sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z),
+                )
             }
         };
         if !sphere.uv {
