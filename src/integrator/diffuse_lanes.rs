@@ -22,6 +22,7 @@ use super::shade_path::russian_roulette;
 use super::shading::{PathBlock, ShadowRay};
 use crate::accel::vex;
 use crate::bsdf::ONE_MINUS_EPSILON;
+use crate::light::area::EmitterParallelogram;
 use crate::sampling::warp::sin_cos_eighth_turn;
 
 /// A light sample for a vertex: the direction and distance to the light point, its radiance
@@ -36,17 +37,37 @@ pub struct LightPoint {
     pub delta: bool,
 }
 
+/// A rectangle lamp chosen for a vertex, to be sampled uniformly by area in the kernel
+/// ([`EmitterParallelogram::sample`] without its solid-angle case): the lamp, its radiance,
+/// the probability of choosing it and the 2D sample for its point.
+#[derive(Clone, Copy, Debug)]
+pub struct LampPoint<'a> {
+    pub lamp: &'a EmitterParallelogram,
+    pub radiance: Vec3,
+    pub probability: f32,
+    pub u: Vec2,
+}
+
+/// A vertex's next-event estimation: no light sample, one drawn, or a lamp for the kernel to
+/// sample.
+#[derive(Clone, Copy, Debug)]
+pub enum VertexLight<'a> {
+    None,
+    Point(LightPoint),
+    Lamp(LampPoint<'a>),
+}
+
 /// What finishing a Lambertian vertex needs: the surface (normals turned to face `wo`), the
 /// reflectance, the path's throughput, its light sample and its 2D sample for the direction.
 #[derive(Clone, Copy, Debug)]
-pub struct DiffuseVertex {
+pub struct DiffuseVertex<'a> {
     pub position: Vec3,
     pub geometric_normal: Vec3,
     pub shading_normal: Vec3,
     pub wo: Vec3,
     pub reflectance: Vec3,
     pub throughput: Vec3,
-    pub light: Option<LightPoint>,
+    pub light: VertexLight<'a>,
     pub u: Vec2,
 }
 
@@ -64,6 +85,15 @@ impl V8 {
     }
 }
 
+/// The light fields of a lane without a light sample.
+const NO_LIGHT: LightPoint = LightPoint {
+    wi: Vec3::Z,
+    distance: 0.0,
+    radiance: Vec3::ZERO,
+    pdf: 1.0,
+    delta: false,
+};
+
 /// The queued vertices, one lane each (structure of arrays).
 #[derive(Clone, Copy, Default)]
 struct Inputs {
@@ -74,13 +104,23 @@ struct Inputs {
     reflectance: V8,
     throughput: V8,
     /// The light sample's fields; `has_light` false where there is none (the other fields
-    /// then hold harmless values).
+    /// then hold harmless values). A lamp lane has none yet: its `light_radiance` is the
+    /// lamp's and its `light_pdf` the probability of choosing it.
     has_light: [bool; LANES],
     light_wi: V8,
     light_distance: F8,
     light_radiance: V8,
     light_pdf: F8,
     light_delta: [bool; LANES],
+    /// The lanes whose lamp the kernel samples, the lamps and the 2D samples for their
+    /// points (stale values elsewhere).
+    lamp: [bool; LANES],
+    lamp_corner: V8,
+    lamp_edge1: V8,
+    lamp_edge2: V8,
+    lamp_normal: V8,
+    lamp_area: F8,
+    lamp_u: [F8; 2],
     u: [F8; 2],
 }
 
@@ -91,6 +131,7 @@ struct Outputs {
     /// nothing: no shadow ray, no next ray).
     has_shadow: M8,
     shadow_origin: V8,
+    shadow_direction: V8,
     shadow_t_max: F8,
     contribution: V8,
     /// The vertex was sound and the BSDF sample made a next ray (else the path ends, keeping
@@ -120,7 +161,7 @@ impl DiffuseQueue {
 
     /// Queues the vertex of the block's path `slot`.
     #[inline(always)]
-    pub fn push(&mut self, slot: usize, vertex: DiffuseVertex) {
+    pub fn push(&mut self, slot: usize, vertex: DiffuseVertex<'_>) {
         let (lane, inputs) = (self.len, &mut self.inputs);
         self.slots[lane] = slot;
         inputs.position.set(lane, vertex.position);
@@ -129,14 +170,27 @@ impl DiffuseQueue {
         inputs.wo.set(lane, vertex.wo);
         inputs.reflectance.set(lane, vertex.reflectance);
         inputs.throughput.set(lane, vertex.throughput);
-        let light = vertex.light.unwrap_or(LightPoint {
-            wi: Vec3::Z,
-            distance: 0.0,
-            radiance: Vec3::ZERO,
-            pdf: 1.0,
-            delta: false,
-        });
-        inputs.has_light[lane] = vertex.light.is_some();
+        let (has_light, light, lamp) = match vertex.light {
+            VertexLight::Point(light) => (true, light, false),
+            VertexLight::None => (false, NO_LIGHT, false),
+            VertexLight::Lamp(lamp) => {
+                inputs.lamp_corner.set(lane, lamp.lamp.corner);
+                inputs.lamp_edge1.set(lane, lamp.lamp.edge1);
+                inputs.lamp_edge2.set(lane, lamp.lamp.edge2);
+                inputs.lamp_normal.set(lane, lamp.lamp.normal);
+                inputs.lamp_area.0[lane] = lamp.lamp.area;
+                inputs.lamp_u[0].0[lane] = lamp.u.x;
+                inputs.lamp_u[1].0[lane] = lamp.u.y;
+                let light = LightPoint {
+                    radiance: lamp.radiance,
+                    pdf: lamp.probability,
+                    ..NO_LIGHT
+                };
+                (false, light, true)
+            }
+        };
+        inputs.has_light[lane] = has_light;
+        inputs.lamp[lane] = lamp;
         inputs.light_wi.set(lane, light.wi);
         inputs.light_distance.0[lane] = light.distance;
         inputs.light_radiance.set(lane, light.radiance);
@@ -152,14 +206,14 @@ impl DiffuseQueue {
     /// queue's length compute on stale inputs and are not read.
     pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
         let out = &mut self.outputs;
-        vex::run(|| finish_lanes(&self.inputs, out));
+        run_kernels(&mut self.inputs, out);
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             if out.has_shadow.lane(lane) {
                 block.shadows.emit_first(
                     slot,
                     ShadowRay {
                         origin: out.shadow_origin.get(lane),
-                        direction: self.inputs.light_wi.get(lane),
+                        direction: out.shadow_direction.get(lane),
                         t_max: out.shadow_t_max.0[lane],
                         contribution: out.contribution.get(lane),
                     },
@@ -184,10 +238,20 @@ impl DiffuseQueue {
     }
 }
 
+/// [`sample_lamps`] where a lane has a lamp, then [`finish_lanes`], each compiled for AVX2
+/// where the CPU has it: as one kernel they were too large for the compiler to inline into
+/// `vex::run`'s AVX2 version, and ran as baseline code in twice the instructions.
+fn run_kernels(inputs: &mut Inputs, out: &mut Outputs) {
+    if inputs.lamp.contains(&true) {
+        vex::run(|| sample_lamps(inputs));
+    }
+    vex::run(|| finish_lanes(inputs, out));
+}
+
 /// The lanes of [`DiffuseQueue::finish`]: for each, the operations of `shade_scattering` on a
 /// `Bsdf::Lambertian` (and of the functions it calls, named at each step) in their order, both
-/// sides of each branch computed and one selected. Inlined into both compilations of
-/// [`vex::run`].
+/// sides of each branch computed and one selected (lamps sampled already). Inlined into both
+/// compilations of [`vex::run`].
 #[inline(always)]
 fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     let (n, ng, p, wo) = (
@@ -248,6 +312,44 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     });
     out.origin = offset_ray_origin(p, ng, wi);
     out.direction = wi;
+}
+
+/// The lamp lanes' light samples, written where the queued ones are: [`EmitterParallelogram::sample`]
+/// by area (`sample_towards`) with `diffuse_vertex`'s checks of its density and radiance, in
+/// their order.
+#[inline(always)]
+fn sample_lamps(inputs: &mut Inputs) {
+    let zero = F8::splat(0.0);
+    let (p, corner, normal) = (inputs.position, inputs.lamp_corner, inputs.lamp_normal);
+    let (e1, e2, [ux, uy]) = (inputs.lamp_edge1, inputs.lamp_edge2, inputs.lamp_u);
+    let lit = !(p - corner).dot(normal).le(zero);
+    let point = V8 {
+        x: corner.x + e1.x * ux + e2.x * uy,
+        y: corner.y + e1.y * ux + e2.y * uy,
+        z: corner.z + e1.z * ux + e2.z * uy,
+    };
+    let to_light = point - p;
+    let distance = to_light.dot(to_light).sqrt();
+    let wi = V8 {
+        x: to_light.x / distance,
+        y: to_light.y / distance,
+        z: to_light.z / distance,
+    };
+    let cos_light = -wi.dot(normal);
+    let pdf = distance * distance / (cos_light * inputs.lamp_area);
+    let sampled = lit
+        & !distance.le(zero)
+        & !cos_light.le(zero)
+        & pdf.gt(zero)
+        & !inputs.light_radiance.is_zero();
+    let lamp = M8::from(inputs.lamp);
+    for (lane, has_light) in inputs.has_light.iter_mut().enumerate() {
+        *has_light |= lamp.lane(lane) && sampled.lane(lane);
+    }
+    inputs.light_wi = lamp.select_v(wi, inputs.light_wi);
+    inputs.light_distance = lamp.select(distance, inputs.light_distance);
+    // `probability * sample.pdf`.
+    inputs.light_pdf = lamp.select(inputs.light_pdf * pdf, inputs.light_pdf);
 }
 
 /// `Frame` on lanes: the same operations in the same order.
@@ -339,6 +441,7 @@ fn light_lanes(
     out.contribution = contribution;
     // `ShadowRay::towards`.
     out.shadow_origin = offset_ray_origin(p, ng, wi);
+    out.shadow_direction = wi;
     out.shadow_t_max = inputs.light_distance * (1.0 - 1e-3);
 }
 
@@ -394,10 +497,33 @@ mod tests {
     use crate::sampling::PathRng;
     use crate::sampling::warp::{power_heuristic, uniform_sphere};
 
+    /// Lamps around the origin, of random corners, edges and radiance (one black).
+    fn random_lamps(rng: &mut PathRng) -> Vec<EmitterParallelogram> {
+        let mut point =
+            |scale: f32| scale * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5);
+        (0..5)
+            .map(|_| {
+                let (corner, edge1, edge2) = (point(20.0), point(4.0), point(4.0));
+                EmitterParallelogram {
+                    corner,
+                    edge1,
+                    edge2,
+                    normal: edge1.cross(edge2).normalize(),
+                    area: edge1.cross(edge2).length(),
+                    rectangle: None,
+                }
+            })
+            .collect()
+    }
+
     /// A vertex with random normals, directions, light and sample, and now and then what the
-    /// scalar path treats as a special case: no light, a delta light, a zero or tiny `wo`, the disk's
-    /// centre, a NaN or out-of-range sample.
-    fn random_vertex(rng: &mut PathRng, i: usize) -> DiffuseVertex {
+    /// scalar path treats as a special case: no light, a delta light, a lamp (seen from
+    /// either side), a zero or tiny `wo`, the disk's centre, a NaN or out-of-range sample.
+    fn random_vertex<'a>(
+        rng: &mut PathRng,
+        i: usize,
+        lamps: &'a [EmitterParallelogram],
+    ) -> DiffuseVertex<'a> {
         let n = uniform_sphere(rng.next_2d());
         let geometric_normal = (n + 0.4 * uniform_sphere(rng.next_2d())).normalize();
         let wo = match i % 13 {
@@ -406,13 +532,23 @@ mod tests {
             6 => uniform_sphere(rng.next_2d()) * 1e-25,
             _ => uniform_sphere(rng.next_2d()) * (0.5 + rng.next_f32()),
         };
-        let light = (!i.is_multiple_of(5)).then(|| LightPoint {
-            wi: uniform_sphere(rng.next_2d()),
-            distance: 10.0 * rng.next_f32(),
-            radiance: Vec3::new(rng.next_f32(), rng.next_f32(), 2.0 * rng.next_f32()),
-            pdf: 2.0 * rng.next_f32(),
-            delta: i.is_multiple_of(7),
-        });
+        let radiance = Vec3::new(rng.next_f32(), rng.next_f32(), 2.0 * rng.next_f32());
+        let light = match i % 5 {
+            0 => VertexLight::None,
+            1 | 2 => VertexLight::Lamp(LampPoint {
+                lamp: &lamps[i % lamps.len()],
+                radiance: if i % 11 == 1 { Vec3::ZERO } else { radiance },
+                probability: rng.next_f32(),
+                u: rng.next_2d(),
+            }),
+            _ => VertexLight::Point(LightPoint {
+                wi: uniform_sphere(rng.next_2d()),
+                distance: 10.0 * rng.next_f32(),
+                radiance,
+                pdf: 2.0 * rng.next_f32(),
+                delta: i.is_multiple_of(7),
+            }),
+        };
         let u = match i % 17 {
             0 => Vec2::splat(0.5),
             1 => Vec2::new(f32::NAN, 1.0),
@@ -435,23 +571,44 @@ mod tests {
         v.to_array().map(f32::to_bits)
     }
 
+    /// A vertex's light sample as the scalar path draws it: `diffuse_vertex` with the lamp's
+    /// `EmitterParallelogram::sample`.
+    fn scalar_light(vertex: &DiffuseVertex) -> Option<LightPoint> {
+        match vertex.light {
+            VertexLight::None => None,
+            VertexLight::Point(light) => Some(light),
+            VertexLight::Lamp(lamp) => (lamp.lamp.sample(vertex.position, lamp.u, lamp.radiance))
+                .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
+                .map(|sample| LightPoint {
+                    wi: sample.wi,
+                    distance: sample.distance,
+                    radiance: sample.radiance,
+                    pdf: lamp.probability * sample.pdf,
+                    delta: sample.delta,
+                }),
+        }
+    }
+
     /// The scalar path's operations on one Lambertian vertex (as `shade_scattering` does them)
     /// against the lanes, bit for bit, in both compilations of the kernel.
     #[test]
     fn lanes_match_the_scalar_vertex_bit_for_bit() {
         let mut rng = PathRng::new(7, 0, 0);
-        let (mut shadows, mut scattered, mut unsound) = (0, 0, 0);
-        for group in 0..500 {
+        let lamps = random_lamps(&mut rng);
+        let (mut shadows, mut lamp_shadows, mut scattered, mut unsound) = (0, 0, 0, 0);
+        for group in 0..1000 {
             let vertices: Vec<DiffuseVertex> = (0..LANES)
-                .map(|lane| random_vertex(&mut rng, group * LANES + lane))
+                .map(|lane| random_vertex(&mut rng, group * LANES + lane, &lamps))
                 .collect();
             let mut queue = DiffuseQueue::default();
             for (lane, vertex) in vertices.iter().enumerate() {
                 queue.push(lane, *vertex);
             }
             let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
-            finish_lanes(&queue.inputs, &mut baseline);
-            vex::run(|| finish_lanes(&queue.inputs, &mut dispatched));
+            let mut inputs = queue.inputs;
+            sample_lamps(&mut inputs);
+            finish_lanes(&inputs, &mut baseline);
+            run_kernels(&mut queue.inputs, &mut dispatched);
             for (lane, v) in vertices.iter().enumerate() {
                 for out in [&baseline, &dispatched] {
                     let frame = Frame::from_z(v.shading_normal);
@@ -465,7 +622,7 @@ mod tests {
                     let bsdf = Bsdf::Lambertian {
                         reflectance: v.reflectance,
                     };
-                    let shadow = v.light.and_then(|light| {
+                    let shadow = scalar_light(v).and_then(|light| {
                         let wi_local = frame.to_local(light.wi);
                         if light.wi.dot(v.geometric_normal) * wi_local.z <= 0.0 {
                             return None;
@@ -484,15 +641,24 @@ mod tests {
                         contribution.is_finite().then(|| {
                             let origin =
                                 offset_ray_origin(v.position, v.geometric_normal, light.wi);
-                            (origin, light.distance * (1.0 - 1e-3), contribution)
+                            (
+                                origin,
+                                light.wi,
+                                light.distance * (1.0 - 1e-3),
+                                contribution,
+                            )
                         })
                     });
                     assert_eq!(out.has_shadow.lane(lane), shadow.is_some(), "lane {lane}");
-                    if let Some((origin, t_max, contribution)) = shadow {
+                    if let Some((origin, direction, t_max, contribution)) = shadow {
                         assert_eq!(bits(out.shadow_origin.get(lane)), bits(origin));
+                        assert_eq!(bits(out.shadow_direction.get(lane)), bits(direction));
                         assert_eq!(out.shadow_t_max.0[lane].to_bits(), t_max.to_bits());
                         assert_eq!(bits(out.contribution.get(lane)), bits(contribution));
                         shadows += 1;
+                        if let VertexLight::Lamp(_) = v.light {
+                            lamp_shadows += 1;
+                        }
                     }
                     let next = bsdf
                         .sample_unit_wo(wo_unit, v.u, 0.5)
@@ -519,8 +685,8 @@ mod tests {
         }
         // Both outcomes common, so the comparisons above were exercised.
         assert!(
-            shadows > 1000 && scattered > 1000 && unsound > 100,
-            "{shadows} {scattered} {unsound}"
+            shadows > 1000 && lamp_shadows > 300 && scattered > 1000 && unsound > 100,
+            "{shadows} {lamp_shadows} {scattered} {unsound}"
         );
     }
 }

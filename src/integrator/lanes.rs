@@ -232,6 +232,19 @@ impl Neg for F8 {
     }
 }
 
+impl Sub for V8 {
+    type Output = Self;
+    /// glam's `Vec3` difference, per component.
+    #[inline(always)]
+    fn sub(self, other: Self) -> Self {
+        V8 {
+            x: self.x - other.x,
+            y: self.y - other.y,
+            z: self.z - other.z,
+        }
+    }
+}
+
 impl V8 {
     /// glam's `Vec3::dot`: (x x' + y y') + z z'.
     #[inline(always)]

@@ -6,11 +6,11 @@ use bevy_ecs::prelude::*;
 use glam::Vec3;
 
 use super::batch::{PathBatch, ShadowBatch};
-use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LightPoint};
+use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LampPoint, LightPoint, VertexLight};
 use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_blocks};
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, unit_direction};
-use crate::light::LightTable;
+use crate::light::{Light, LightTable};
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
 use crate::shape::surface::SurfacePoint;
@@ -203,27 +203,49 @@ fn shade_scattering(
 }
 
 /// A Lambertian vertex's random numbers and light sample, drawn in the order the scalar path
-/// draws them (light choice, light point, lobe, direction), for [`DiffuseQueue::finish`].
+/// draws them (light choice, light point, lobe, direction), for [`DiffuseQueue::finish`]; a
+/// rectangle lamp sampled by area is left for the kernel to sample, eight vertices at once.
 #[inline(always)]
-fn diffuse_vertex(
-    scene: &Scene,
+fn diffuse_vertex<'a>(
+    scene: &Scene<'a>,
     surface: &SurfacePoint,
     reflectance: Vec3,
     wo: Vec3,
     path: &mut PathSlots,
-) -> DiffuseVertex {
+) -> DiffuseVertex<'a> {
     let lights = scene.lights;
     let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
-    let light = lights.choose(u_choose).and_then(|(index, probability)| {
-        let sample = lights.lights[index].sample_for_mis(surface.position, u_light)?;
-        (sample.pdf > 0.0 && sample.radiance != Vec3::ZERO).then_some(LightPoint {
-            wi: sample.wi,
-            distance: sample.distance,
-            radiance: sample.radiance,
-            pdf: probability * sample.pdf,
-            delta: sample.delta,
-        })
-    });
+    let light = match lights.choose(u_choose) {
+        None => VertexLight::None,
+        Some((index, probability)) => {
+            let light = &lights.lights[index];
+            let lamp = match light {
+                Light::Area(area) => area.uniform_parallelogram().map(|lamp| (lamp, area)),
+                _ => None,
+            };
+            if let Some((lamp, area)) = lamp {
+                VertexLight::Lamp(LampPoint {
+                    lamp,
+                    radiance: area.radiance(),
+                    probability,
+                    u: u_light,
+                })
+            } else {
+                light
+                    .sample_for_mis(surface.position, u_light)
+                    .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
+                    .map_or(VertexLight::None, |sample| {
+                        VertexLight::Point(LightPoint {
+                            wi: sample.wi,
+                            distance: sample.distance,
+                            radiance: sample.radiance,
+                            pdf: probability * sample.pdf,
+                            delta: sample.delta,
+                        })
+                    })
+            }
+        }
+    };
     let (_u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
     DiffuseVertex {
         position: surface.position,

@@ -120,17 +120,7 @@ impl AreaLight {
 
     pub fn sample(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
         match &self.shape {
-            EmitterShape::Parallelogram(parallelogram) => {
-                if (p - parallelogram.corner).dot(parallelogram.normal) <= 0.0 {
-                    return None;
-                }
-                if let Some(seen) = parallelogram.by_solid_angle(p) {
-                    return self.sample_uniform_solid_angle(p, seen.sample(u), &seen);
-                }
-                let point =
-                    parallelogram.corner + parallelogram.edge1 * u.x + parallelogram.edge2 * u.y;
-                self.sample_towards(p, point, parallelogram.normal, parallelogram.area)
-            }
+            EmitterShape::Parallelogram(parallelogram) => parallelogram.sample(p, u, self.radiance),
             EmitterShape::Triangles {
                 triangles,
                 by_area,
@@ -140,7 +130,7 @@ impl AreaLight {
                 let triangle = &triangles[index];
                 let (b1, b2) = uniform_triangle(Vec2::new(remapped, u.y));
                 let point = triangle.p0 + triangle.edge1 * b1 + triangle.edge2 * b2;
-                self.sample_towards(p, point, triangle.normal, *area)
+                sample_towards(p, point, triangle.normal, *area, self.radiance)
             }
             EmitterShape::Sphere { centre, radius } => {
                 let to_centre = *centre - p;
@@ -185,47 +175,17 @@ impl AreaLight {
         }
     }
 
-    /// The sample of `point` on a flat emitter of unit `normal` and total `area`, chosen
-    /// uniformly by area, seen from `p`: density distance^2 / (cos_light area) per solid angle.
-    #[inline]
-    fn sample_towards(&self, p: Vec3, point: Vec3, normal: Vec3, area: f32) -> Option<LightSample> {
-        let to_light = point - p;
-        let distance = to_light.length();
-        if distance <= 0.0 {
-            return None;
+    /// The parallelogram `sample` draws its points from uniformly by area wherever the
+    /// shading point is (a rectangle lamp not sampled by solid angle): a kernel that samples
+    /// several vertices at once can then do `sample`'s arithmetic itself
+    /// (`integrator::diffuse_lanes`).
+    pub fn uniform_parallelogram(&self) -> Option<&EmitterParallelogram> {
+        match &self.shape {
+            EmitterShape::Parallelogram(parallelogram) if parallelogram.rectangle.is_none() => {
+                Some(parallelogram)
+            }
+            _ => None,
         }
-        let wi = to_light / distance;
-        let cos_light = -wi.dot(normal);
-        if cos_light <= 0.0 {
-            return None;
-        }
-        Some(LightSample {
-            wi,
-            distance,
-            radiance: self.radiance,
-            pdf: distance * distance / (cos_light * area),
-            delta: false,
-        })
-    }
-
-    /// The sample of `point`, drawn uniformly in the solid angle the rectangle `seen` subtends
-    /// from `p` (whose lit side `p` is on): density 1 / solid angle.
-    #[inline]
-    fn sample_uniform_solid_angle(
-        &self,
-        p: Vec3,
-        point: Vec3,
-        seen: &SphericalRectangle,
-    ) -> Option<LightSample> {
-        let to_light = point - p;
-        let distance = to_light.length();
-        (distance > 0.0).then(|| LightSample {
-            wi: to_light / distance,
-            distance,
-            radiance: self.radiance,
-            pdf: 1.0 / seen.solid_angle(),
-            delta: false,
-        })
     }
 
     /// Solid-angle density of `sample` from `p` choosing the emitter point `point` with
@@ -255,6 +215,55 @@ impl AreaLight {
             }
         }
     }
+}
+
+/// The sample of `point` on a flat emitter of unit `normal`, total `area` and `radiance`, chosen
+/// uniformly by area, seen from `p`: density distance^2 / (cos_light area) per solid angle.
+#[inline]
+fn sample_towards(
+    p: Vec3,
+    point: Vec3,
+    normal: Vec3,
+    area: f32,
+    radiance: Vec3,
+) -> Option<LightSample> {
+    let to_light = point - p;
+    let distance = to_light.length();
+    if distance <= 0.0 {
+        return None;
+    }
+    let wi = to_light / distance;
+    let cos_light = -wi.dot(normal);
+    if cos_light <= 0.0 {
+        return None;
+    }
+    Some(LightSample {
+        wi,
+        distance,
+        radiance,
+        pdf: distance * distance / (cos_light * area),
+        delta: false,
+    })
+}
+
+/// The sample of `point`, drawn uniformly in the solid angle the rectangle `seen` subtends
+/// from `p` (whose lit side `p` is on): density 1 / solid angle.
+#[inline]
+fn sample_uniform_solid_angle(
+    p: Vec3,
+    point: Vec3,
+    seen: &SphericalRectangle,
+    radiance: Vec3,
+) -> Option<LightSample> {
+    let to_light = point - p;
+    let distance = to_light.length();
+    (distance > 0.0).then(|| LightSample {
+        wi: to_light / distance,
+        distance,
+        radiance,
+        pdf: 1.0 / seen.solid_angle(),
+        delta: false,
+    })
 }
 
 /// The solid-angle density of choosing `point` (of unit `normal`) uniformly by area on a flat
@@ -296,13 +305,14 @@ impl EmitterTriangle {
 /// (`rectangle.cpp`, `sample_position`: a uniform point of the square, mapped affinely); a
 /// rectangle (orthogonal edges) is also kept as one to sample by solid angle where asked.
 #[derive(Clone, Debug)]
-struct EmitterParallelogram {
-    corner: Vec3,
-    edge1: Vec3,
-    edge2: Vec3,
-    normal: Vec3,
-    area: f32,
-    rectangle: Option<Rectangle>,
+pub struct EmitterParallelogram {
+    pub corner: Vec3,
+    pub edge1: Vec3,
+    pub edge2: Vec3,
+    pub normal: Vec3,
+    pub area: f32,
+    /// The rectangle to sample by solid angle, where asked; `None` samples by area alone.
+    pub rectangle: Option<Rectangle>,
 }
 
 impl EmitterParallelogram {
@@ -343,6 +353,21 @@ impl EmitterParallelogram {
             // from a point the construction orients it away from the point.
             rectangle: Rectangle::new(q, edge1, edge2),
         })
+    }
+
+    /// A point of the lamp of `radiance` for `p`, on its lit side: by solid angle where
+    /// [`Self::by_solid_angle`] says so, else uniformly by area (`corner` + u.x `edge1` + u.y
+    /// `edge2`).
+    #[inline]
+    pub fn sample(&self, p: Vec3, u: Vec2, radiance: Vec3) -> Option<LightSample> {
+        if (p - self.corner).dot(self.normal) <= 0.0 {
+            return None;
+        }
+        if let Some(seen) = self.by_solid_angle(p) {
+            return sample_uniform_solid_angle(p, seen.sample(u), &seen, radiance);
+        }
+        let point = self.corner + self.edge1 * u.x + self.edge2 * u.y;
+        sample_towards(p, point, self.normal, self.area, radiance)
     }
 
     /// The rectangle as seen from `p`, if it is one and its solid angle from `p` lies in

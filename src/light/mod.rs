@@ -170,7 +170,10 @@ impl LightTable {
     }
 
     /// Picks the light for next-event estimation by the table's selection weights, in O(1):
-    /// (index, probability); `None` when no light can be sampled that way.
+    /// (index, probability); `None` when no light can be sampled that way. Inlined: called
+    /// at every scattering vertex, its call and its result through memory cost about as much
+    /// as the choice.
+    #[inline]
     pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
         if self.selectable.is_empty() {
             return None;

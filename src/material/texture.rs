@@ -76,13 +76,13 @@ pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
     }
     let x = fraction(st.x) * w as f32 - 0.5;
     let y = fraction(st.y) * h as f32 - 0.5;
-    let (x0, y0) = (floor(x), floor(y));
-    let (fx, fy) = (x - x0, y - y0);
+    let (x0, y0) = (floor_from_half(x), floor_from_half(y));
+    let (fx, fy) = (x - x0 as f32, y - y0 as f32);
     // With s, t in [0, 1], x in [-0.5, w - 0.5] and y likewise: the four texels' columns and
     // rows are at most one past either edge, so wrapping is one comparison each, not the
     // integer division of `rem_euclid`.
-    let (i0, i1) = neighbours(x0 as i64, w);
-    let (j0, j1) = neighbours(y0 as i64, h);
+    let (i0, i1) = neighbours(x0, w);
+    let (j0, j1) = neighbours(y0, h);
     let texel = |i: i64, j: i64| texture.texels[(j * w + i) as usize];
     (texel(i0, j0) * (1.0 - fx) + texel(i1, j0) * fx) * (1.0 - fy)
         + (texel(i0, j1) * (1.0 - fx) + texel(i1, j1) * fx) * fy
@@ -115,6 +115,13 @@ fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
 /// at negative integers, which the caller's multiply and subtract make the same -0.5).
 fn fraction(x: f32) -> f32 {
     x - floor(x)
+}
+
+/// `floor(x)` for finite x >= -0.5 (a texel coordinate of a wrapped lookup), without `floor`'s
+/// general case: truncation toward zero is the floor at x >= 0, and every x in [-0.5, 0) has
+/// floor -1. Its value as f32 is exact, so x minus it is x - floor(x) to the bit.
+fn floor_from_half(x: f32) -> i64 {
+    if x < 0.0 { -1 } else { x as i64 }
 }
 
 /// Column (or row) `i` in -1..=n - 1 and the next one, wrapped into 0..n.

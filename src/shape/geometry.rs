@@ -78,6 +78,11 @@ pub struct SphereShape {
     /// `object_to_world`, i.e. `world_to_object`'s transposed (transposed once here, not at
     /// every hit).
     pub normal_to_world: Mat3A,
+    /// `world_to_object`'s translation where its linear part is exactly the identity (a sphere
+    /// placed by its centre, as Mitsuba's `center` and LuxRender's translations place them):
+    /// the hit's object-space point is then the world point plus it, and its normal that
+    /// point normalised, without the two matrix products.
+    pub translation_only: Option<Vec3>,
     pub radius: f32,
     /// Whether a hit's uv is read: the scene samples textures and the sphere's material varies
     /// over its surface (a material of constant inputs never reads it: `Scene::bsdf_at`), so a
@@ -160,6 +165,8 @@ pub fn build_scene_geometry(
             object_to_world: sphere.object_to_world,
             world_to_object,
             normal_to_world: world_to_object.matrix3.transpose(),
+            translation_only: (world_to_object.matrix3 == Mat3A::IDENTITY)
+                .then(|| world_to_object.translation.into()),
             radius: sphere.radius,
             uv: needs.uvs && materials.fixed_bsdf(surface.0).is_none(),
         });

@@ -74,9 +74,22 @@ impl SceneGeometry {
 
     fn sphere_surface(&self, i: usize, position: Vec3) -> (Vec3, Vec3, Vec2) {
         let sphere = &self.spheres[i];
-        let local = sphere.world_to_object.transform_point3(position);
-        // Normals transform by the inverse transpose.
-        let n = sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z);
+        let (local, n) = match sphere.translation_only {
+            // The identity's products (1 x + 0 y + 0 z) give x itself, so this is the general
+            // case's value to the bit (but for the sign of a zero coordinate).
+            Some(translation) => {
+                let local = position + translation;
+                (local, local.normalize_or(Vec3::Z))
+            }
+            None => {
+                let local = sphere.world_to_object.transform_point3(position);
+                // Normals transform by the inverse transpose.
+                (
+                    local,
+                    sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z),
+                )
+            }
+        };
         if !sphere.uv {
             return (n, n, Vec2::ZERO);
         }
