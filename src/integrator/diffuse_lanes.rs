@@ -152,7 +152,12 @@ impl DiffuseQueue {
     /// queue's length compute on stale inputs and are not read.
     pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
         let out = &mut self.outputs;
-        vex::run(|| finish_lanes(&self.inputs, out));
+        // Forced inline, so that both compilations of `vex::run` hold the lanes' code: left to
+        // LLVM, the closure was once compiled out of line for the baseline only.
+        vex::run(
+            #[inline(always)]
+            || finish_lanes(&self.inputs, out),
+        );
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             if out.has_shadow.lane(lane) {
                 block.shadows.emit_first(
