@@ -183,6 +183,26 @@ impl CameraRays<'_, '_> {
             }
         }
     }
+
+    /// As [`CameraRays::generate`] for a camera whose rays all start at its centre (camera-space
+    /// origin 0): `direction` maps a raster position to a camera-space direction. In world space
+    /// every origin is the pose's translation, taken as it is rather than transformed per ray
+    /// (the same value: the linear part times 0 adds only zeros).
+    pub fn generate_from_centre(&mut self, direction: impl Fn(Vec2) -> Vec3 + Sync) {
+        match *self.space {
+            GeneratedRaySpace::Camera => {
+                write_camera_rays(&mut self.batch, |film| Some((Vec3::ZERO, direction(film))))
+            }
+            GeneratedRaySpace::World => {
+                let pose = self.pose.0;
+                let centre = Vec3::from(pose.translation);
+                write_camera_rays(&mut self.batch, |film| {
+                    let world = pose.transform_vector3(direction(film));
+                    Some((centre, world.normalize_or_zero()))
+                })
+            }
+        }
+    }
 }
 
 /// Fills every path's ray from its film position with `project`; ends the path where it gives

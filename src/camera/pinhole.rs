@@ -1,7 +1,6 @@
 //! The pinhole perspective camera.
 
 use bevy_ecs::prelude::*;
-use glam::Vec3;
 
 use super::{CameraRays, 
     CameraSetup, CameraStage, CameraType, FovRange, raster_to_screen,
@@ -54,8 +53,8 @@ fn generate_pinhole_rays(
     let camera = **camera;
     let tan_half_fov = (camera.fov_degrees.to_radians() * 0.5).tan();
     let (width, height) = (settings.width, settings.height);
-    rays.generate(|film| {
+    rays.generate_from_centre(|film| {
         let screen = raster_to_screen(film, width, height, camera.screen_window);
-        Some((Vec3::ZERO, (screen * tan_half_fov).extend(1.0)))
+        (screen * tan_half_fov).extend(1.0)
     });
 }

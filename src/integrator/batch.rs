@@ -113,12 +113,19 @@ macro_rules! path_batch {
                 )
             }
 
+            /// One pass over `order`, each slot's fields moved together (one read of the slot
+            /// number and one loop for all fields, not one per field). The columns are resliced
+            /// to their common lengths first, so that one comparison per slot stands for every
+            /// column's bounds check.
             fn gather(self, order: &[u32]) {
-                $(
-                    for (target, &slot) in self.targets.$field.iter_mut().zip(order) {
-                        *target = self.sources.$field[slot as usize].clone();
-                    }
-                )*
+                let n = self.sources.alive.len();
+                let live = order.len();
+                $(let $field = (&self.sources.$field[..n], &mut self.targets.$field[..live]);)*
+                for (i, &slot) in order.iter().enumerate() {
+                    let slot = slot as usize;
+                    assert!(slot < n, "a live path's slot is within the batch");
+                    $($field.1[i] = $field.0[slot].clone();)*
+                }
             }
         }
     };

@@ -242,10 +242,18 @@ impl DiffuseQueue {
 /// where the CPU has it: as one kernel they were too large for the compiler to inline into
 /// `vex::run`'s AVX2 version, and ran as baseline code in twice the instructions.
 fn run_kernels(inputs: &mut Inputs, out: &mut Outputs) {
+    // The closures are forced inline, so that both compilations of `vex::run` hold the lanes'
+    // code: left to LLVM, a closure was once compiled out of line for the baseline only.
     if inputs.lamp.contains(&true) {
-        vex::run(|| sample_lamps(inputs));
+        vex::run(
+            #[inline(always)]
+            || sample_lamps(inputs),
+        );
     }
-    vex::run(|| finish_lanes(inputs, out));
+    vex::run(
+        #[inline(always)]
+        || finish_lanes(inputs, out),
+    );
 }
 
 /// The lanes of [`DiffuseQueue::finish`]: for each, the operations of `shade_scattering` on a

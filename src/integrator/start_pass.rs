@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::batch::PathBatch;
 use crate::film::PixelFilter;
-use crate::sampling::{Divisor, PassStreams, PixelSampler};
+use crate::sampling::{DimensionSampler, Divisor, PassStreams, PathRng, PixelSampler};
 use crate::settings::RenderSettings;
 
 /// Which pass (sample index per pixel) is running.
@@ -65,18 +65,29 @@ pub fn start_pass(
         .for_each(
             |(block, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
                 let first = first as usize + block * BLOCK;
-                for (path, ((pixel, film), rng)) in
-                    (first..).zip(pixel.iter_mut().zip(film).zip(rng))
-                {
-                    // Path `first + i` of the pass: its pixel, or the crop's pixel list's entry.
-                    let i = pixels.map_or(path as u32, |p| p[path]);
-                    let centre = Vec2::new(
-                        width.remainder(i) as f32 + 0.5,
-                        width.quotient(i) as f32 + 0.5,
-                    );
-                    *pixel = i;
-                    *film = centre + sampling.filter.sample(sampler.sample(i));
-                    *rng = streams.path(i);
+                let paths = pixel.iter_mut().zip(film).zip(rng);
+                let filter = &sampling.filter;
+                match pixels {
+                    // Path `first + k` of the pass is pixel `first + k`: its column and row
+                    // are counted along, one division per block rather than per path.
+                    None => {
+                        let mut column = width.remainder(first as u32);
+                        let mut row = width.quotient(first as u32);
+                        for (i, slots) in (first as u32..).zip(paths) {
+                            start_path(filter, &sampler, streams, i, (column, row), slots);
+                            column += 1;
+                            if column == width.get() {
+                                (column, row) = (0, row + 1);
+                            }
+                        }
+                    }
+                    // A crop: the pixel list's entry.
+                    Some(pixels) => {
+                        for (&i, slots) in pixels[first..].iter().zip(paths) {
+                            let column_row = (width.remainder(i), width.quotient(i));
+                            start_path(filter, &sampler, streams, i, column_row, slots);
+                        }
+                    }
                 }
                 throughput.fill(Vec3::ONE);
                 radiance.fill(Vec3::ZERO);
@@ -87,6 +98,27 @@ pub fn start_pass(
             },
         );
 }
+
+/// Samples path slots' fields for pixel `i`, at (column, row) of the film: its pixel, its film
+/// position (the pixel's centre plus the filter's offset) and its random stream. Inlined into
+/// both of [`start_pass`]'s loops (a call per path costs more than the division it saves).
+#[inline(always)]
+fn start_path(
+    filter: &PixelFilter,
+    sampler: &DimensionSampler,
+    streams: PassStreams,
+    i: u32,
+    (x, y): (u32, u32),
+    ((pixel, film), rng): PathSlots,
+) {
+    let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+    *pixel = i;
+    *film = centre + filter.sample(sampler.sample(i));
+    *rng = streams.path(i);
+}
+
+/// A path's slots that [`start_pass`] samples: its pixel, film position and random stream.
+type PathSlots<'a> = ((&'a mut u32, &'a mut Vec2), &'a mut PathRng);
 
 /// Paths per task of [`start_pass`].
 const BLOCK: usize = 1024;
