@@ -27,7 +27,7 @@ use super::{Hit, SphereInstance};
 
 /// The most triangles and spheres a scene may hold to be traced flat. Measured with
 /// `cargo bench --bench bvh -- flat`: see that benchmark's crossover.
-pub(crate) const MAX_FLAT_PRIMITIVES: usize = 32;
+pub(crate) const MAX_FLAT_PRIMITIVES: usize = 64;
 
 /// A lane's primitive id before any hit.
 const NO_HIT: u32 = u32::MAX;
