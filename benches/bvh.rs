@@ -1,7 +1,8 @@
 //! BVH build time and closest-hit throughput on a procedurally tessellated torus of 1M
 //! triangles, and the accel's bytes per triangle.
 //!
-//! `cargo bench --bench bvh -- --quick`. The mesh and the rays are also written to
+//! `cargo bench --bench bvh -- --quick`; `cargo bench --bench bvh -- flat` alone prints the
+//! crossover between testing a few primitives flat and the tree (`Accel::build_with_flat_limit`). The mesh and the rays are also written to
 //! `target/bvh-peer/` (raw little-endian f32: 9 per triangle, 6 per ray: origin, direction),
 //! which `scripts/peers/embree_compare.py` traces with Embree.
 
@@ -81,6 +82,9 @@ fn write_f32(name: &str, values: impl Iterator<Item = f32>) {
 }
 
 fn bench(c: &mut Criterion) {
+    if std::env::args().any(|a| a == "flat") {
+        return;
+    }
     let primitives = Primitives {
         triangles: torus(1000, 500),
         ..Default::default()
@@ -175,5 +179,83 @@ fn bench(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, bench);
+/// A scene of `n` primitives in the unit cube around the origin: one sphere in eight, the
+/// rest triangles of edges up to 0.4 (small enough that a tree culls).
+fn random_scene(n: usize) -> Primitives {
+    use foton::accel::SphereInstance;
+    use glam::Affine3A;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(n as u64);
+    let mut uniform = || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
+    let mut point = || Vec3::new(uniform(), uniform(), uniform());
+    let spheres = n / 8;
+    Primitives {
+        triangles: (0..n - spheres)
+            .map(|_| {
+                let c = point();
+                [c, c + 0.8 * point(), c + 0.8 * point()]
+            })
+            .collect(),
+        spheres: (0..spheres)
+            .map(|_| SphereInstance {
+                object_to_world: Affine3A::from_translation(point()),
+                radius: 0.1,
+            })
+            .collect(),
+        ..Default::default()
+    }
+}
+
+/// Closest-hit and any-hit batches on scenes of a few primitives, flat against the tree, on
+/// a one-thread pool: the pool thread's CPU nanoseconds per ray (median of 7 runs of passes
+/// over 64k rays) for each size, where the two cross.
+fn flat_crossover(_: &mut Criterion) {
+    if !std::env::args().any(|a| a == "flat") {
+        return;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let (origins, dirs) = rays();
+    let t_maxs = vec![f32::INFINITY; RAYS];
+    let (mut hits, mut occluded) = (vec![None; RAYS], vec![false; RAYS]);
+    let nanos_per_ray = |pass: &mut dyn FnMut()| {
+        // Passes repeated for at least 0.1 s of CPU time: the kernel counts it in ticks.
+        let times = (0..7)
+            .filter_map(|_| {
+                let (start, mut passes) = (thread_cpu_seconds()?, 0);
+                while thread_cpu_seconds()? - start < 0.1 {
+                    pass();
+                    passes += 1;
+                }
+                Some((thread_cpu_seconds()? - start) / passes as f64)
+            })
+            .collect();
+        median(times) * 1e9 / RAYS as f64
+    };
+    println!("primitives  closest flat / tree ns  any flat / tree ns");
+    for n in [4, 8, 16, 24, 32, 48, 64, 96, 128, 192, 256] {
+        let scene = random_scene(n);
+        let [flat, tree] = [n, 0].map(|limit| Accel::build_with_flat_limit(&scene, limit));
+        let mut row = Vec::new();
+        pool.install(|| {
+            for accel in [&flat, &tree] {
+                row.push(nanos_per_ray(&mut || {
+                    accel.closest_hits(&origins, &dirs, 0.0, &t_maxs, &mut hits)
+                }));
+            }
+            for accel in [&flat, &tree] {
+                row.push(nanos_per_ray(&mut || {
+                    accel.any_hits(&origins, &dirs, 0.0, &t_maxs, None, &mut occluded)
+                }));
+            }
+        });
+        println!(
+            "{n:10}  {:8.1} / {:8.1}  {:8.1} / {:8.1}",
+            row[0], row[1], row[2], row[3]
+        );
+    }
+}
+
+criterion_group!(benches, bench, flat_crossover);
 criterion_main!(benches);

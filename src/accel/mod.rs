@@ -15,7 +15,9 @@
 mod aabb;
 mod blas;
 mod bvh;
+mod flat;
 mod instances;
+mod lanes;
 mod memory;
 mod pass_through;
 mod plane;
@@ -31,6 +33,7 @@ use rayon::prelude::*;
 
 use blas::Blas;
 use bvh::{Ray, Shape};
+use flat::Flat;
 use instances::Instances;
 pub use pass_through::PassThrough;
 use plane::Plane;
@@ -114,6 +117,9 @@ impl BuildStats {
 /// all threads.
 pub struct Accel {
     world: Blas,
+    /// The world's triangles and spheres for the batch queries when they are few and there
+    /// are no instances (see [`flat`]).
+    flat: Option<Flat>,
     instances: Instances,
     planes: Vec<Plane>,
     prim_ids: PrimitiveIds,
@@ -127,6 +133,13 @@ impl Accel {
     /// Builds the trees (each in parallel for large subtrees, the mesh trees in parallel with
     /// each other) and prepares the planes.
     pub fn build(primitives: &Primitives) -> Accel {
+        Accel::build_with_flat_limit(primitives, flat::MAX_FLAT_PRIMITIVES)
+    }
+
+    /// [`Accel::build`], with the batch queries tested flat (see [`flat`]) for up to
+    /// `max_flat` triangles and spheres rather than [`flat::MAX_FLAT_PRIMITIVES`]: 0 keeps
+    /// the tree for every scene (benchmarks compare the two).
+    pub fn build_with_flat_limit(primitives: &Primitives, max_flat: usize) -> Accel {
         let start = Instant::now();
         let prim_ids = PrimitiveIds::new(primitives);
         let (world, instances) = rayon::join(
@@ -140,6 +153,17 @@ impl Accel {
             },
             || Instances::build(primitives, &prim_ids),
         );
+        let few = primitives.triangles.len() + primitives.spheres.len() <= max_flat;
+        let flat = if few && primitives.instances.is_empty() {
+            Flat::new(
+                &primitives.triangles,
+                &primitives.spheres,
+                |i| prim_ids.triangle(i),
+                |i| prim_ids.sphere(i),
+            )
+        } else {
+            None
+        };
         let planes = (primitives.planes.iter().enumerate())
             .filter_map(|(i, p)| Plane::new(p, prim_ids.plane(i)))
             .collect();
@@ -156,6 +180,7 @@ impl Accel {
         stats.build_time = start.elapsed();
         Accel {
             world,
+            flat,
             instances,
             planes,
             prim_ids,
@@ -268,6 +293,9 @@ impl Accel {
         t_maxs: &[f32],
         hits: &mut [Option<Hit>],
     ) {
+        if let Some(flat) = &self.flat {
+            return flat.closest_hits(&self.planes, (origins, dirs, t_maxs), t_min, hits);
+        }
         vex::run(
             #[inline(always)]
             || {
@@ -311,6 +339,16 @@ impl Accel {
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
+        if let Some(flat) = &self.flat {
+            flat.any_hits(&self.planes, (origins, dirs, t_maxs), t_min, occluded);
+            if let Some(pass) = pass_through {
+                let rays = (occluded.iter_mut()).zip(origins).zip(dirs).zip(t_maxs);
+                for (((occ, &o), &d), &t_max) in rays.filter(|r| *r.0.0.0) {
+                    *occ = self.blocked_past_pass_through(o, d, t_min, t_max, pass);
+                }
+            }
+            return;
+        }
         vex::run(
             #[inline(always)]
             || {

@@ -66,9 +66,20 @@ impl Accel {
         t_max: f32,
         pass_through: &PassThrough,
     ) -> bool {
-        if !self.find_any(origin, dir, t_min, t_max) {
-            return false;
-        }
+        self.find_any(origin, dir, t_min, t_max)
+            && self.blocked_past_pass_through(origin, dir, t_min, t_max, pass_through)
+    }
+
+    /// For a ray known to hit something with t in (t_min, t_max): whether a primitive not in
+    /// `pass_through` is hit, walking the surfaces nearest first.
+    pub(super) fn blocked_past_pass_through(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t_min: f32,
+        t_max: f32,
+        pass_through: &PassThrough,
+    ) -> bool {
         let mut t_min = t_min;
         for _ in 0..MAX_LAYERS {
             match self.closest_hit(origin, dir, t_min, t_max) {

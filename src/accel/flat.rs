@@ -1,0 +1,710 @@
+//! A scene of a few primitives without a tree: rays in groups of 8 (AVX2) or 16 (AVX-512)
+//! lanes, each group tested against every triangle and sphere in turn.
+//!
+//! For a dozen primitives the tree's per-ray work (the ray's splats and reciprocals, the node
+//! tests, the stack, four-wide packets with one live lane) costs more than the primitives
+//! themselves. Here the rays are transposed into lanes (`o[axis]`, `d[axis]`, `t_max`, one
+//! ray per lane; see [`super::lanes`]) and each primitive's constants are splatted once per
+//! group: SIMD across rays, not across primitives. Planes are tested first, ray by ray, as the
+//! tree's queries do.
+//!
+//! Each lane performs exactly the operations of [`super::triangle::Triangle4::intersect`] and
+//! [`super::sphere::Sphere4::intersect`] in the same order, so a lane's `t`, `u`, `v` are the
+//! tree's bit for bit. Ties: the primitives are tested in id order (planes, then triangles,
+//! then spheres) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
+//! the lowest id wins, where the tree keeps the first one its traversal meets.
+//!
+//! Built only where the CPU has AVX2; elsewhere the tree answers.
+
+use glam::{Vec3, Vec3A};
+
+#[cfg(target_arch = "x86_64")]
+use super::lanes::{L8, L16, Lanes};
+use super::plane::Plane;
+use super::sphere::sphere_bounds;
+use super::triangle::triangle_bounds;
+use super::{Hit, SphereInstance};
+
+/// The most triangles and spheres a scene may hold to be traced flat. Measured with
+/// `cargo bench --bench bvh -- flat`: see that benchmark's crossover.
+pub(crate) const MAX_FLAT_PRIMITIVES: usize = 64;
+
+/// A lane's primitive id before any hit.
+const NO_HIT: u32 = u32::MAX;
+
+/// The widest group.
+const MAX_LANES: usize = 16;
+
+/// A triangle as the packet test uses it: a vertex and the two edges from it.
+#[derive(Clone, Copy, Debug)]
+struct FlatTriangle {
+    v0: [f32; 3],
+    e1: [f32; 3],
+    e2: [f32; 3],
+    id: u32,
+}
+
+/// A sphere as the packet test uses it: the rows of its world-to-object map (column 3 the
+/// translation) and its radius.
+#[derive(Clone, Copy, Debug)]
+struct FlatSphere {
+    rows: [[f32; 4]; 3],
+    radius: f32,
+    id: u32,
+}
+
+/// The triangles and spheres that can be hit, in id order.
+pub(crate) struct Flat {
+    triangles: Vec<FlatTriangle>,
+    spheres: Vec<FlatSphere>,
+}
+
+/// A group of up to [`MAX_LANES`] rays, by coordinate: origins, directions, and `t_max`, NaN
+/// in a lane that can hit nothing (no ray, an empty range, a non-finite origin or direction,
+/// a zero direction), which every range test rejects.
+struct Group {
+    o: [[f32; MAX_LANES]; 3],
+    d: [[f32; MAX_LANES]; 3],
+    t_max: [f32; MAX_LANES],
+    /// Each lane's hit so far (planes first).
+    prim: [u32; MAX_LANES],
+}
+
+impl Group {
+    /// The rays `start..start + lanes` (as many as there are), tested against the planes.
+    #[inline(always)]
+    fn load(
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        start: usize,
+        lanes: usize,
+        planes: &[Plane],
+    ) -> Self {
+        let (origins, dirs, t_maxs) = rays;
+        let mut group = Group {
+            o: [[0.0; MAX_LANES]; 3],
+            d: [[0.0; MAX_LANES]; 3],
+            t_max: [f32::NAN; MAX_LANES],
+            prim: [NO_HIT; MAX_LANES],
+        };
+        let end = (start + lanes)
+            .min(origins.len())
+            .min(dirs.len())
+            .min(t_maxs.len());
+        for (lane, i) in (start..end).enumerate() {
+            let (o, d, t_max) = (origins[i], dirs[i], t_maxs[i]);
+            // As `Ray::new` and the range test of `Accel::find_closest`: `x · 0` is 0 only for
+            // a finite `x`.
+            let finite = (o * 0.0 + d * 0.0).cmpeq(Vec3::ZERO).all();
+            if !(finite && d.cmpne(Vec3::ZERO).any() && t_min < t_max) {
+                continue;
+            }
+            for axis in 0..3 {
+                group.o[axis][lane] = o[axis];
+                group.d[axis][lane] = d[axis];
+            }
+            group.t_max[lane] = t_max;
+            let (o, d) = (Vec3A::from(o), Vec3A::from(d));
+            for plane in planes {
+                if let Some(t) = plane.intersect(o, d, t_min, group.t_max[lane]) {
+                    (group.t_max[lane], group.prim[lane]) = (t, plane.id);
+                }
+            }
+        }
+        group
+    }
+}
+
+/// A group's rays in lanes.
+#[cfg(target_arch = "x86_64")]
+struct Rays<S: Lanes> {
+    o: [S; 3],
+    d: [S; 3],
+    t_min: S,
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn dot<S: Lanes>(a: &[S; 3], b: &[S; 3]) -> S {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn cross<S: Lanes>(a: &[S; 3], b: &[S; 3]) -> [S; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn splat3<S: Lanes>(v: &[f32; 3]) -> [S; 3] {
+    [S::splat(v[0]), S::splat(v[1]), S::splat(v[2])]
+}
+
+/// The triangle test of `Triangle4::intersect`, its operations in its order, one ray per
+/// lane: where the rays hit with `t` in `(t_min, t_max)`, and `(t, u, v)`; `None` where none
+/// does. As there, the second cross product is skipped when no lane passes the first
+/// barycentric test.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn triangle_lanes<S: Lanes>(
+    tri: &FlatTriangle,
+    rays: &Rays<S>,
+    t_max: S,
+) -> Option<(S::Mask, S, S, S)> {
+    let [e1, e2, v0] = [splat3::<S>(&tri.e1), splat3(&tri.e2), splat3(&tri.v0)];
+    let (zero, one) = (S::splat(0.0), S::splat(1.0));
+    let d = &rays.d;
+    let p = cross(d, &e2);
+    let det = dot(&e1, &p);
+    let inv_det = one / det;
+    let s = [rays.o[0] - v0[0], rays.o[1] - v0[1], rays.o[2] - v0[2]];
+    let u = dot(&s, &p) * inv_det;
+    let u_mask = S::and(S::and(det.ne(zero), u.ge(zero)), u.le(one));
+    if S::bits(u_mask) == 0 {
+        return None;
+    }
+    let q = cross(&s, &e1);
+    let v = dot(d, &q) * inv_det;
+    let t = dot(&e2, &q) * inv_det;
+    let uv = S::and(v.ge(zero), (u + v).le(one));
+    let range = S::and(t.gt(rays.t_min), t.lt(t_max));
+    let hit = S::and(u_mask, S::and(uv, range));
+    (S::bits(hit) != 0).then_some((hit, t, u, v))
+}
+
+/// The sphere test of `Sphere4::intersect`, its operations in its order, one ray per lane:
+/// where the rays hit with `t` in `(t_min, t_max)`, and the nearest such root; `None` where
+/// none does.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+    let map = |row: &[f32; 4], p: &[S; 3]| {
+        S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
+    };
+    let [r0, r1, r2] = &sphere.rows;
+    let o = [
+        map(r0, &rays.o) + S::splat(r0[3]),
+        map(r1, &rays.o) + S::splat(r1[3]),
+        map(r2, &rays.o) + S::splat(r2[3]),
+    ];
+    let d = [map(r0, &rays.d), map(r1, &rays.d), map(r2, &rays.d)];
+    let r = S::splat(sphere.radius);
+    let two = S::splat(2.0);
+    let a = dot(&d, &d);
+    let b = two * dot(&o, &d);
+    let c = dot(&o, &o) - r * r;
+    let k = b / (two * a);
+    let closest = [o[0] - k * d[0], o[1] - k * d[1], o[2] - k * d[2]];
+    let l = dot(&closest, &closest).sqrt();
+    let discriminant = S::splat(4.0) * a * (r + l) * (r - l);
+    let root = discriminant.sqrt();
+    let half = S::splat(-0.5);
+    let q = (half * (b + root)).replaced(b.lt(S::splat(0.0)), half * (b - root));
+    let (t0, t1) = (q / a, c / q);
+    let ordered = t0.le(t1);
+    let (near, far) = (t1.replaced(ordered, t0), t0.replaced(ordered, t1));
+    let near_in = S::and(near.gt(rays.t_min), near.lt(t_max));
+    let far_in = S::and(far.gt(rays.t_min), far.lt(t_max));
+    let hit = S::or(near_in, far_in);
+    (S::bits(hit) != 0).then_some((hit, far.replaced(near_in, near)))
+}
+
+/// Calls `f(lane)` for each bit set in `bits`.
+#[inline(always)]
+fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
+    while bits != 0 {
+        f(bits.trailing_zeros() as usize);
+        bits &= bits - 1;
+    }
+}
+
+impl Flat {
+    /// The triangles and spheres that can be hit (as the tree keeps them); `None` where the
+    /// CPU lacks AVX2.
+    pub fn new(
+        triangles: &[[Vec3; 3]],
+        spheres: &[SphereInstance],
+        triangle_id: impl Fn(usize) -> u32,
+        sphere_id: impl Fn(usize) -> u32,
+    ) -> Option<Flat> {
+        #[cfg(target_arch = "x86_64")]
+        let simd = std::arch::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let simd = false;
+        if !simd {
+            return None;
+        }
+        let triangles = (triangles.iter().enumerate())
+            .filter(|(_, v)| triangle_bounds(v).is_some())
+            .map(|(i, v)| FlatTriangle {
+                v0: v[0].to_array(),
+                e1: (v[1] - v[0]).to_array(),
+                e2: (v[2] - v[0]).to_array(),
+                id: triangle_id(i),
+            })
+            .collect();
+        let spheres = (spheres.iter().enumerate())
+            .filter(|(_, s)| sphere_bounds(s).is_some())
+            .map(|(i, s)| {
+                let m = s.object_to_world.inverse();
+                let columns = [
+                    m.matrix3.x_axis,
+                    m.matrix3.y_axis,
+                    m.matrix3.z_axis,
+                    m.translation,
+                ];
+                FlatSphere {
+                    rows: [0, 1, 2].map(|i| columns.map(|column| column[i])),
+                    radius: s.radius,
+                    id: sphere_id(i),
+                }
+            })
+            .collect();
+        Some(Flat { triangles, spheres })
+    }
+
+    /// For each i: hits[i] = the closest hit of ray i with t in (t_min, t_maxs[i]) among the
+    /// planes and these primitives, as `Accel::closest_hit` answers it (but for ties, see the
+    /// module's documentation).
+    pub fn closest_hits(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        hits: &mut [Option<Hit>],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: the CPU has the features the functions are compiled for (`Flat::new`
+            // checked AVX2).
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return unsafe { self.closest_hits_avx512(planes, rays, t_min, hits) };
+            }
+            return unsafe { self.closest_hits_avx2(planes, rays, t_min, hits) };
+        }
+        #[allow(unreachable_code)]
+        {
+            unreachable!("a Flat is built only where the CPU has AVX2")
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn closest_hits_avx512(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        hits: &mut [Option<Hit>],
+    ) {
+        self.closest_hits_in::<L16>(planes, rays, t_min, hits)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn closest_hits_avx2(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        hits: &mut [Option<Hit>],
+    ) {
+        self.closest_hits_in::<L8>(planes, rays, t_min, hits)
+    }
+
+    /// [`Flat::closest_hits`] in groups of `S::LANES`.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn closest_hits_in<S: Lanes>(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        hits: &mut [Option<Hit>],
+    ) {
+        let len = (hits.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
+        for (group_index, hits) in hits[..len].chunks_mut(S::LANES).enumerate() {
+            let mut group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
+            let lanes = Rays {
+                o: [
+                    S::load(&group.o[0]),
+                    S::load(&group.o[1]),
+                    S::load(&group.o[2]),
+                ],
+                d: [
+                    S::load(&group.d[0]),
+                    S::load(&group.d[1]),
+                    S::load(&group.d[2]),
+                ],
+                t_min: S::splat(t_min),
+            };
+            let mut t_max = S::load(&group.t_max);
+            let (mut u, mut v) = (S::splat(0.0), S::splat(0.0));
+            for tri in &self.triangles {
+                if let Some((hit, t, hit_u, hit_v)) = triangle_lanes(tri, &lanes, t_max) {
+                    t_max = t_max.replaced(hit, t);
+                    (u, v) = (u.replaced(hit, hit_u), v.replaced(hit, hit_v));
+                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = tri.id);
+                }
+            }
+            for sphere in &self.spheres {
+                if let Some((hit, t)) = sphere_lanes(sphere, &lanes, t_max) {
+                    t_max = t_max.replaced(hit, t);
+                    let zero = S::splat(0.0);
+                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = sphere.id);
+                }
+            }
+            let (mut us, mut vs) = ([0.0; MAX_LANES], [0.0; MAX_LANES]);
+            t_max.store(&mut group.t_max);
+            u.store(&mut us);
+            v.store(&mut vs);
+            for (lane, hit) in hits.iter_mut().enumerate() {
+                let prim = group.prim[lane];
+                *hit = (prim != NO_HIT).then_some(Hit {
+                    t: group.t_max[lane],
+                    prim,
+                    u: us[lane],
+                    v: vs[lane],
+                });
+            }
+        }
+    }
+
+    /// For each i: occluded[i] = whether ray i hits a plane or one of these primitives with t
+    /// in (t_min, t_maxs[i]). A group stops as soon as all its rays are occluded.
+    pub fn any_hits(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        occluded: &mut [bool],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: as in `closest_hits`.
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return unsafe { self.any_hits_avx512(planes, rays, t_min, occluded) };
+            }
+            return unsafe { self.any_hits_avx2(planes, rays, t_min, occluded) };
+        }
+        #[allow(unreachable_code)]
+        {
+            unreachable!("a Flat is built only where the CPU has AVX2")
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn any_hits_avx512(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        occluded: &mut [bool],
+    ) {
+        self.any_hits_in::<L16>(planes, rays, t_min, occluded)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn any_hits_avx2(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        occluded: &mut [bool],
+    ) {
+        self.any_hits_in::<L8>(planes, rays, t_min, occluded)
+    }
+
+    /// [`Flat::any_hits`] in groups of `S::LANES`.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn any_hits_in<S: Lanes>(
+        &self,
+        planes: &[Plane],
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        occluded: &mut [bool],
+    ) {
+        let len = (occluded.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
+        for (group_index, occluded) in occluded[..len].chunks_mut(S::LANES).enumerate() {
+            let group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
+            let lanes = Rays {
+                o: [
+                    S::load(&group.o[0]),
+                    S::load(&group.o[1]),
+                    S::load(&group.o[2]),
+                ],
+                d: [
+                    S::load(&group.d[0]),
+                    S::load(&group.d[1]),
+                    S::load(&group.d[2]),
+                ],
+                t_min: S::splat(t_min),
+            };
+            let t_max = S::load(&group.t_max);
+            // Settled lanes: those a plane blocks, and those that can hit nothing (NaN).
+            let planes_hit = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
+                bits | ((prim != NO_HIT) as u32) << lane
+            });
+            let mut blocked = planes_hit;
+            let unusable = S::bits(t_max.ne(t_max));
+            let all = (1u32 << S::LANES) - 1;
+            'primitives: {
+                for tri in &self.triangles {
+                    if (blocked | unusable) == all {
+                        break 'primitives;
+                    }
+                    if let Some((hit, ..)) = triangle_lanes(tri, &lanes, t_max) {
+                        blocked |= S::bits(hit);
+                    }
+                }
+                for sphere in &self.spheres {
+                    if (blocked | unusable) == all {
+                        break 'primitives;
+                    }
+                    if let Some((hit, _)) = sphere_lanes(sphere, &lanes, t_max) {
+                        blocked |= S::bits(hit);
+                    }
+                }
+            }
+            for (lane, occ) in occluded.iter_mut().enumerate() {
+                *occ = blocked & (1 << lane) != 0;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Affine3A, Quat};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+    use rand_xoshiro::rand_core::{Rng, SeedableRng};
+
+    use super::super::sphere::Sphere4;
+    use super::super::triangle::Triangle4;
+    use super::super::{Accel, PassThrough, PlaneInstance, Primitives};
+    use super::*;
+
+    /// A random scene of at most [`MAX_FLAT_PRIMITIVES`] primitives: triangles on a
+    /// half-unit grid (shared vertices and edges, so exact edge hits and equal-`t` ties), an
+    /// ellipsoid or a few, sometimes a plane, and one degenerate triangle and sphere.
+    fn scene(rng: &mut Xoshiro256PlusPlus) -> Primitives {
+        let mut uniform =
+            |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let grid = |x: f32| (x * 2.0).round() * 0.5;
+        let mut point = || Vec3::new(uniform(-2.0, 2.0), uniform(-2.0, 2.0), uniform(-2.0, 2.0));
+        let mut triangles: Vec<[Vec3; 3]> = (0..(point().x.abs() * 7.0) as usize + 2)
+            .map(|_| [point(), point(), point()].map(|p| p.map(grid)))
+            .collect();
+        triangles.push([Vec3::ONE; 3]);
+        let spheres = (0..(point().x.abs() * 2.0) as usize + 1)
+            .map(|_| SphereInstance {
+                object_to_world: Affine3A::from_scale_rotation_translation(
+                    point().abs() * 0.4 + 0.2,
+                    Quat::from_axis_angle(point().normalize_or(Vec3::X), point().x),
+                    point(),
+                ),
+                radius: point().x.abs() * 0.3 + 0.1,
+            })
+            .chain([SphereInstance {
+                object_to_world: Affine3A::IDENTITY,
+                radius: 0.0,
+            }])
+            .collect();
+        let planes = if point().x > 0.0 {
+            vec![PlaneInstance {
+                point: Vec3::new(0.0, -1.5, 0.0),
+                normal: point(),
+            }]
+        } else {
+            Vec::new()
+        };
+        Primitives {
+            triangles,
+            spheres,
+            planes,
+            ..Default::default()
+        }
+    }
+
+    /// Rays from all sides aimed at the triangles' vertices and edges and at the spheres'
+    /// centres, with finite and infinite `t_max`; some unusable (zero direction, NaN, an
+    /// empty range).
+    fn rays(scene: &Primitives, rng: &mut Xoshiro256PlusPlus) -> (Vec<Vec3>, Vec<Vec3>, Vec<f32>) {
+        let mut rays = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..203 {
+            let mut uniform =
+                |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+            let aim = if i % 3 == 0 {
+                scene.spheres[i % scene.spheres.len()]
+                    .object_to_world
+                    .translation
+                    .into()
+            } else {
+                let v = scene.triangles[i % scene.triangles.len()];
+                v[i % 3].lerp(v[(i + 1) % 3], [0.0, 0.5, 0.25][i % 5 % 3])
+            };
+            let origin = Vec3::new(uniform(-6.0, 6.0), uniform(-6.0, 6.0), uniform(-6.0, 6.0));
+            let dir = match i % 41 {
+                0 => Vec3::ZERO,
+                1 => Vec3::NAN,
+                _ => (aim - origin) * uniform(0.2, 2.0),
+            };
+            let t_max = match i % 4 {
+                0 => f32::INFINITY,
+                1 => -1.0,
+                _ => uniform(0.3, 1.5),
+            };
+            rays.0.push(origin);
+            rays.1.push(dir);
+            rays.2.push(t_max);
+        }
+        rays
+    }
+
+    /// The closest hit by brute force with the stated tie rule: planes, triangles, spheres in
+    /// id order, each by its one-lane packet test, a hit kept only if strictly nearer.
+    fn brute_force(accel: &Accel, scene: &Primitives, o: Vec3, d: Vec3, t_max: f32) -> Option<Hit> {
+        let ray = super::super::bvh::Ray::new(o.into(), d.into())?;
+        if t_max.is_nan() || t_max <= 0.0 {
+            return None;
+        }
+        let (mut t_max, mut best) = (t_max, None);
+        for plane in &accel.planes {
+            if let Some(t) = plane.intersect(ray.origin, ray.dir, 0.0, t_max) {
+                (t_max, best) = (
+                    t,
+                    Some(Hit {
+                        t,
+                        prim: plane.id,
+                        u: 0.0,
+                        v: 0.0,
+                    }),
+                );
+            }
+        }
+        let (o4, d4) = (&ray.origin4, &ray.dir4);
+        for (i, tri) in scene.triangles.iter().enumerate() {
+            let packet = Triangle4::new([(tri, accel.ids().triangle(i))]);
+            if let Some(hit) = packet.intersect::<false>(o4, d4, 0.0, t_max) {
+                let prim = packet.ids[0];
+                (t_max, best) = (
+                    hit.t,
+                    Some(Hit {
+                        t: hit.t,
+                        prim,
+                        u: hit.u,
+                        v: hit.v,
+                    }),
+                );
+            }
+        }
+        for (i, sphere) in scene.spheres.iter().enumerate() {
+            if sphere_bounds(sphere).is_none() {
+                continue;
+            }
+            let packet = Sphere4::new([(sphere, accel.ids().sphere(i))]);
+            if let Some(hit) = packet.intersect::<false>(o4, d4, 0.0, t_max) {
+                let prim = packet.ids[0];
+                (t_max, best) = (
+                    hit.t,
+                    Some(Hit {
+                        t: hit.t,
+                        prim,
+                        u: 0.0,
+                        v: 0.0,
+                    }),
+                );
+            }
+        }
+        best
+    }
+
+    /// On random small scenes, in groups of 8 lanes (AVX2) and 16 (AVX-512, where the CPU has
+    /// it) and through `Accel`'s batch entry points: every closest hit equals
+    /// the brute-force one bit for bit (ties to the lowest id), has the tree's `t` bit for
+    /// bit, and every occlusion, with and without a pass-through set, is the tree's.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn flat_matches_brute_force_and_tree() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(8);
+        let (mut hits, mut occluded, mut passed, mut ties) = (0, 0, 0, 0);
+        for _ in 0..300 {
+            let scene = scene(&mut rng);
+            let accel = Accel::build(&scene);
+            let flat = accel.flat.as_ref().expect("a small scene is traced flat");
+            let (origins, dirs, t_maxs) = rays(&scene, &mut rng);
+            let n = origins.len();
+            let rays = (&origins[..], &dirs[..], &t_maxs[..]);
+            let planes = &accel.planes;
+            // Every third primitive passes shadow rays.
+            let pass = PassThrough::new(accel.primitive_count(), |id| id % 3 == 1).unwrap();
+            let (mut by_width, mut blocked) = (Vec::new(), Vec::new());
+            let mut run = |avx512: bool| {
+                let (mut hits, mut occluded) = (vec![None; n], vec![false; n]);
+                // SAFETY: each width only where the CPU has its features.
+                unsafe {
+                    if avx512 {
+                        flat.closest_hits_avx512(planes, rays, 0.0, &mut hits);
+                        flat.any_hits_avx512(planes, rays, 0.0, &mut occluded);
+                    } else {
+                        flat.closest_hits_avx2(planes, rays, 0.0, &mut hits);
+                        flat.any_hits_avx2(planes, rays, 0.0, &mut occluded);
+                    }
+                }
+                by_width.push(hits);
+                blocked.push(occluded);
+            };
+            run(false);
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                run(true);
+            }
+            let mut hits_batch = vec![None; n];
+            accel.closest_hits(&origins, &dirs, 0.0, &t_maxs, &mut hits_batch);
+            by_width.push(hits_batch);
+            let mut occluded_batch = vec![false; n];
+            accel.any_hits(&origins, &dirs, 0.0, &t_maxs, None, &mut occluded_batch);
+            blocked.push(occluded_batch);
+            let mut opaque_batch = vec![false; n];
+            accel.any_hits(
+                &origins,
+                &dirs,
+                0.0,
+                &t_maxs,
+                Some(&pass),
+                &mut opaque_batch,
+            );
+            for i in 0..n {
+                let (o, d, t_max) = (origins[i], dirs[i], t_maxs[i]);
+                let expected = brute_force(&accel, &scene, o, d, t_max);
+                let tree = accel.closest_hit(o, d, 0.0, t_max);
+                for got in &by_width {
+                    assert_eq!(got[i], expected, "ray {i}");
+                }
+                assert_eq!(expected.map(|h| h.t), tree.map(|h| h.t), "ray {i}");
+                ties += (expected != tree) as usize;
+                hits += expected.is_some() as usize;
+                let any = accel.any_hit(o, d, 0.0, t_max);
+                for b in &blocked {
+                    assert_eq!(b[i], any, "ray {i}");
+                }
+                let opaque = accel.any_opaque_hit(o, d, 0.0, t_max, &pass);
+                assert_eq!(opaque_batch[i], opaque, "ray {i}");
+                occluded += any as usize;
+                passed += (any && !opaque) as usize;
+            }
+        }
+        assert!(
+            hits > 10_000 && occluded > 10_000 && passed > 1000 && ties > 0,
+            "{hits} hits, {occluded} occluded, {passed} passed through, {ties} ties"
+        );
+    }
+}
