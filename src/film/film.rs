@@ -470,6 +470,16 @@ impl<'a> FilmRows<'a> {
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
                 let start = (first - self.rows.start) * w + xs.first;
+                if let Ok(&wx) = <&[f32; 4]>::try_from(wx) {
+                    // The common footprint, four pixels wide: a row is one group of four,
+                    // without `add_to_row`'s loop and remainder.
+                    let wx = Vec4::from_array(wx);
+                    for (row, &fy) in wy.iter().enumerate() {
+                        let pixels = &mut self.sums[start + row * w..start + row * w + 4];
+                        add_to_four(pixels.try_into().unwrap(), wx, fy, radiance);
+                    }
+                    return true;
+                }
                 for (row, &fy) in wy.iter().enumerate() {
                     let sums = &mut self.sums[start + row * w..start + row * w + wx.len()];
                     add_to_row(sums, wx, fy, radiance);
@@ -510,13 +520,24 @@ fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedS
     let mut pixels = sums.chunks_exact_mut(4);
     let mut weights = wx.chunks_exact(4);
     for (pixels, weights) in (&mut pixels).zip(&mut weights) {
-        let weights = widen(Vec4::from_slice(weights) * fy);
-        for (sum, w) in pixels.iter_mut().zip(weights) {
-            add_weighted(sum, radiance, w);
-        }
+        add_to_four(
+            pixels.try_into().unwrap(),
+            Vec4::from_slice(weights),
+            fy,
+            radiance,
+        );
     }
     for (sum, &fx) in pixels.into_remainder().iter_mut().zip(weights.remainder()) {
         add_weighted(sum, radiance, f64::from(fx * fy));
+    }
+}
+
+/// Adds a sample's share to four pixels of a row: their four weights `wx * fy` in one f32
+/// product, then 16 lanes of f64.
+#[inline(always)]
+fn add_to_four(pixels: &mut [WeightedSum; 4], wx: Vec4, fy: f32, radiance: WeightedSum) {
+    for (sum, w) in pixels.iter_mut().zip(widen(wx * fy)) {
+        add_weighted(sum, radiance, w);
     }
 }
 
