@@ -3,7 +3,7 @@
 use bevy_ecs::prelude::Resource;
 use std::ops::Range;
 
-use glam::{DVec3, Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::PixelFilter;
@@ -431,7 +431,9 @@ impl<'a> FilmRows<'a> {
         let rows = self.rows.clone();
         let pixel = sample.pixel as usize;
         let home = self.pixels.contains(&pixel);
-        let valid = sample.radiance.is_finite() && sample.radiance.cmpge(Vec3::ZERO).all();
+        // Finite and not negative: 0 <= c < inf, false for NaN; three lanes in one compare each.
+        let lanes = Vec3A::from(sample.radiance);
+        let valid = (lanes.cmpge(Vec3A::ZERO) & lanes.cmplt(Vec3A::INFINITY)).all();
         if !valid {
             return !home;
         }
