@@ -3,7 +3,7 @@
 use bevy_ecs::prelude::Resource;
 use std::ops::Range;
 
-use glam::{DVec3, Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::PixelFilter;
@@ -64,21 +64,23 @@ impl SplatFilter {
     #[inline(always)]
     fn footprint(&self, axis: usize, position: f32, size: u32) -> AxisFootprint {
         let (first, count) = footprint_span(position, self.radius[axis], size);
-        let mut weights = [0.0; MAX_FOOTPRINT];
-        for (group, values) in weights
-            .chunks_exact_mut(4)
-            .enumerate()
-            .take(count.div_ceil(4))
-        {
-            // The centres j + 0.5 of pixels j = first + 4 group + lane, as the group's first
-            // index plus (lane + 0.5): exact, and so the same bits, below 2^22 pixels.
+        // The centres j + 0.5 of pixels j = first + 4 group + lane, as the group's first index
+        // plus (lane + 0.5): exact, and so the same bits, below 2^22 pixels.
+        let group = |group: usize| {
             let group_first = (first + 4 * group) as i32 as f32;
             let centres = Vec4::splat(group_first) + Vec4::new(0.5, 1.5, 2.5, 3.5);
-            values.copy_from_slice(
-                &self
-                    .values(axis, Vec4::splat(position) - centres)
-                    .to_array(),
-            );
+            self.values(axis, Vec4::splat(position) - centres)
+                .to_array()
+        };
+        // The first group always (a footprint of up to four pixels, the common case, takes no
+        // loop; its values are unused when the footprint is empty), the rest as needed.
+        let mut weights = [0.0; MAX_FOOTPRINT];
+        weights[..4].copy_from_slice(&group(0));
+        for (index, values) in weights.chunks_exact_mut(4).enumerate().skip(1) {
+            if 4 * index >= count {
+                break;
+            }
+            values.copy_from_slice(&group(index));
         }
         AxisFootprint {
             first,
@@ -96,16 +98,13 @@ impl SplatFilter {
         let x = offsets.abs() / self.radius[axis] * SPLAT_TABLE as f32;
         // False for NaN as well.
         let inside = x.cmplt(Vec4::splat(SPLAT_TABLE as f32));
-        // trunc(), not floor() or fract(): SIMD without SSE4.1 (floor is a library call), and
-        // the same for x >= 0.
-        let whole = x.trunc();
+        // i = floor(x) = trunc(x) for x >= 0, and the index's low byte, from one packed
+        // truncation to integers (`truncate_lanes`); outside, the low byte is still a valid
+        // index (its lane is replaced by 0).
+        let (whole, index) = truncate_lanes(x);
         let t = x - whole;
-        // The index from the float's bits: inside, whole is an integer in [0, 256), and
-        // adding 2^23 puts it, exactly, in the mantissa's low bits (cheaper than a cast per
-        // lane); outside, the low byte is still a valid index (its lane is replaced by 0).
-        let index = (whole + Vec4::splat(8_388_608.0)).to_array();
         let table = &self.tables[axis];
-        let entry = |lane: usize| table[usize::from(index[lane].to_bits() as u8)];
+        let entry = |lane: usize| table[usize::from(index[lane] as u8)];
         // Lane by lane, not `array::map`, which is not always inlined.
         let [e0, e1, e2, e3] = [entry(0), entry(1), entry(2), entry(3)];
         let low = Vec4::new(e0[0], e1[0], e2[0], e3[0]);
@@ -432,7 +431,9 @@ impl<'a> FilmRows<'a> {
         let rows = self.rows.clone();
         let pixel = sample.pixel as usize;
         let home = self.pixels.contains(&pixel);
-        let valid = sample.radiance.is_finite() && sample.radiance.cmpge(Vec3::ZERO).all();
+        // Finite and not negative: 0 <= c < inf, false for NaN; three lanes in one compare each.
+        let lanes = Vec3A::from(sample.radiance);
+        let valid = (lanes.cmpge(Vec3A::ZERO) & lanes.cmplt(Vec3A::INFINITY)).all();
         if !valid {
             return !home;
         }
@@ -471,6 +472,16 @@ impl<'a> FilmRows<'a> {
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
                 let start = (first - self.rows.start) * w + xs.first;
+                if let Ok(&wx) = <&[f32; 4]>::try_from(wx) {
+                    // The common footprint, four pixels wide: a row is one group of four,
+                    // without `add_to_row`'s loop and remainder.
+                    let wx = Vec4::from_array(wx);
+                    for (row, &fy) in wy.iter().enumerate() {
+                        let pixels = &mut self.sums[start + row * w..start + row * w + 4];
+                        add_to_four(pixels.try_into().unwrap(), wx, fy, radiance);
+                    }
+                    return true;
+                }
                 for (row, &fy) in wy.iter().enumerate() {
                     let sums = &mut self.sums[start + row * w..start + row * w + wx.len()];
                     add_to_row(sums, wx, fy, radiance);
@@ -511,13 +522,24 @@ fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedS
     let mut pixels = sums.chunks_exact_mut(4);
     let mut weights = wx.chunks_exact(4);
     for (pixels, weights) in (&mut pixels).zip(&mut weights) {
-        let weights = widen(Vec4::from_slice(weights) * fy);
-        for (sum, w) in pixels.iter_mut().zip(weights) {
-            add_weighted(sum, radiance, w);
-        }
+        add_to_four(
+            pixels.try_into().unwrap(),
+            Vec4::from_slice(weights),
+            fy,
+            radiance,
+        );
     }
     for (sum, &fx) in pixels.into_remainder().iter_mut().zip(weights.remainder()) {
         add_weighted(sum, radiance, f64::from(fx * fy));
+    }
+}
+
+/// Adds a sample's share to four pixels of a row: their four weights `wx * fy` in one f32
+/// product, then 16 lanes of f64.
+#[inline(always)]
+fn add_to_four(pixels: &mut [WeightedSum; 4], wx: Vec4, fy: f32, radiance: WeightedSum) {
+    for (sum, w) in pixels.iter_mut().zip(widen(wx * fy)) {
+        add_weighted(sum, radiance, w);
     }
 }
 
@@ -560,11 +582,46 @@ fn footprint_span(position: f32, radius: f32, size: u32) -> (usize, usize) {
     let (low, high) = (position - 0.5 - radius, position - 0.5 + radius);
     // In f32, exact below 2^24 pixels; one instruction each for ceil and floor with SSE4.1
     // (`with_avx2_if_present`). `max` and `min` also turn a NaN bound into the film's edge.
-    let first = low.ceil().max(0.0);
-    let last = high.floor().min(size as f32 - 1.0);
+    // `first` is also kept at most `size` (beyond the film the count is 0 either way), so
+    // that both are finite and in [0, 2^24].
+    let size = size as f32;
+    let first = low.ceil().max(0.0).min(size);
+    let last = high.floor().min(size - 1.0);
     let count = (last + 1.0 - first).clamp(0.0, MAX_FOOTPRINT as f32);
-    // Through i32, whose conversion is cheaper than usize's (both are in [0, 2^24]).
-    (first as i32 as usize, count as i32 as usize)
+    // SAFETY: both are finite integers in [0, 2^24], which i32 holds; unchecked, the
+    // conversion is one instruction rather than `as`'s saturation of NaN and overflow.
+    unsafe {
+        (
+            first.to_int_unchecked::<i32>() as usize,
+            count.to_int_unchecked::<i32>() as usize,
+        )
+    }
+}
+
+/// trunc(x) lane by lane, as floats and as integers, for lanes in [0, 2^31): one packed
+/// conversion to integers and one back (glam's `trunc` takes six instructions without SSE4.1,
+/// and its integer conversion goes lane by lane). Lanes beyond (NaN, infinite, large) give
+/// values that callers must not use.
+#[inline(always)]
+fn truncate_lanes(x: Vec4) -> (Vec4, [i32; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{__m128, _mm_cvtepi32_ps, _mm_cvttps_epi32};
+        // SAFETY: SSE2, which x86-64 always has.
+        let (whole, index) = unsafe {
+            let index = _mm_cvttps_epi32(__m128::from(x));
+            (_mm_cvtepi32_ps(index), index)
+        };
+        // SAFETY: four i32 lanes, the same size and layout as [i32; 4].
+        (Vec4::from(whole), unsafe {
+            std::mem::transmute::<std::arch::x86_64::__m128i, [i32; 4]>(index)
+        })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let whole = x.trunc();
+        (whole, whole.to_array().map(|lane| lane as i32))
+    }
 }
 
 #[cfg(test)]
