@@ -197,8 +197,7 @@ impl CameraRays<'_, '_> {
                 let pose = self.pose.0;
                 let centre = Vec3::from(pose.translation);
                 write_camera_rays(&mut self.batch, |film| {
-                    let world = pose.transform_vector3(direction(film));
-                    Some((centre, world.normalize_or_zero()))
+                    Some((centre, direction_to_world(pose, direction(film))))
                 })
             }
         }
@@ -232,8 +231,14 @@ fn write_camera_rays(batch: &mut PathBatch, project: impl Fn(Vec2) -> Option<(Ve
 pub fn to_world(pose: Affine3A, origin: Vec3, direction: Vec3) -> (Vec3, Vec3) {
     (
         pose.transform_point3(origin),
-        pose.transform_vector3(direction).normalize_or_zero(),
+        direction_to_world(pose, direction),
     )
+}
+
+/// A camera-space direction in world space, normalised.
+#[inline(always)]
+fn direction_to_world(pose: Affine3A, direction: Vec3) -> Vec3 {
+    pose.transform_vector3(direction).normalize_or_zero()
 }
 
 /// Maps a raster position (pixels, y down) to the screen window [xmin, xmax, ymin, ymax] (y up).
