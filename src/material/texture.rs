@@ -75,7 +75,10 @@ impl TextureTable {
     }
 }
 
-/// Bilinear lookup; texel centres at half-integers.
+/// Bilinear lookup; texel centres at half-integers. Inlined, the wrapped case's few dozen
+/// instructions go without a call's saved registers and its result through memory; the bounded
+/// case stays a call.
+#[inline]
 pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
     let (w, h) = (texture.width as i64, texture.height as i64);
     if w == 0 || h == 0 || !st.is_finite() {
@@ -99,6 +102,7 @@ pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
 }
 
 /// Bilinear lookup where texels outside the image are black, white or the nearest edge texel.
+#[inline(never)]
 fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
     let (w, h) = (texture.width as i64, texture.height as i64);
     let x = st.x * w as f32 - 0.5;
