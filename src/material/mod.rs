@@ -318,6 +318,13 @@ impl MaterialTable {
             return Some(*bsdf);
         }
         let mut id = id as usize;
+        // A textured Lambertian, the common varying material: the loop's first step (a leaf,
+        // not fixed) and `Inputs::bsdf`'s first arm, without the general match.
+        if let Some(Material::Lambertian { reflectance }) = self.materials.get(id) {
+            return Some(Bsdf::Lambertian {
+                reflectance: inputs.color(reflectance, sp),
+            });
+        }
         for _ in 0..MAX_MIX_DEPTH {
             match self.materials.get(id)? {
                 Material::Mix {
