@@ -174,6 +174,12 @@ impl PathBatch {
         let pending = std::mem::take(&mut self.pending);
         let live = match &pending[..self.pending_len] {
             [] => self.split_live(&mut finished),
+            // Too little to share: a fork-join would cost more than it saves (a late bounce's
+            // few paths), and would wake the other threads for nothing.
+            samples if samples.len() + n <= PARTITION_BLOCK => {
+                finish(samples);
+                self.split_live(&mut finished)
+            }
             samples => rayon::join(|| finish(samples), || self.split_live(&mut finished)).1,
         };
         if live == 0 {

@@ -65,24 +65,38 @@ pub fn start_pass(
         .for_each(
             |(block, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
                 let first = first as usize + block * BLOCK;
-                let paths = pixel.iter_mut().zip(film).zip(rng);
                 let filter = &sampling.filter;
                 match pixels {
                     // Path `first + k` of the pass is pixel `first + k`: its column and row
                     // are counted along, one division per block rather than per path.
+                    // The pixels' samples and streams are hashed LANES at a time (the last
+                    // group's lanes past the block are computed and dropped).
                     None => {
                         let mut column = width.remainder(first as u32);
                         let mut row = width.quotient(first as u32);
-                        for (i, slots) in (first as u32..).zip(paths) {
-                            start_path(filter, &sampler, streams, i, (column, row), slots);
-                            column += 1;
-                            if column == width.get() {
-                                (column, row) = (0, row + 1);
+                        let groups = pixel.chunks_mut(LANES).zip(film.chunks_mut(LANES));
+                        for (group, ((pixel, film), rng)) in
+                            groups.zip(rng.chunks_mut(LANES)).enumerate()
+                        {
+                            let first = (first + group * LANES) as u32;
+                            let pixels: [u32; LANES] = std::array::from_fn(|k| first + k as u32);
+                            let offsets = sampler.sample_lanes(pixels);
+                            let slots = pixel.iter_mut().zip(film).zip(rng);
+                            let lanes = pixels.iter().zip(offsets).zip(streams.paths(pixels));
+                            for (((pixel, film), rng), ((&i, u), stream)) in slots.zip(lanes) {
+                                *pixel = i;
+                                *film = film_position(filter, (column, row), u);
+                                *rng = stream;
+                                column += 1;
+                                if column == width.get() {
+                                    (column, row) = (0, row + 1);
+                                }
                             }
                         }
                     }
                     // A crop: the pixel list's entry.
                     Some(pixels) => {
+                        let paths = pixel.iter_mut().zip(film).zip(rng);
                         for (&i, slots) in pixels[first..].iter().zip(paths) {
                             let column_row = (width.remainder(i), width.quotient(i));
                             start_path(filter, &sampler, streams, i, column_row, slots);
@@ -100,21 +114,26 @@ pub fn start_pass(
 }
 
 /// Samples path slots' fields for pixel `i`, at (column, row) of the film: its pixel, its film
-/// position (the pixel's centre plus the filter's offset) and its random stream. Inlined into
-/// both of [`start_pass`]'s loops (a call per path costs more than the division it saves).
+/// position and its random stream (for a crop's pixels, one at a time).
 #[inline(always)]
 fn start_path(
     filter: &PixelFilter,
     sampler: &DimensionSampler,
     streams: PassStreams,
     i: u32,
-    (x, y): (u32, u32),
+    column_row: (u32, u32),
     ((pixel, film), rng): PathSlots,
 ) {
-    let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
     *pixel = i;
-    *film = centre + filter.sample(sampler.sample(i));
+    *film = film_position(filter, column_row, sampler.sample(i));
     *rng = streams.path(i);
+}
+
+/// The raster position of a camera sample: the centre of the pixel at (x, y) plus the filter's
+/// offset for the unit-square sample `u`.
+#[inline(always)]
+fn film_position(filter: &PixelFilter, (x, y): (u32, u32), u: Vec2) -> Vec2 {
+    Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + filter.sample(u)
 }
 
 /// A path's slots that [`start_pass`] samples: its pixel, film position and random stream.
@@ -122,3 +141,5 @@ type PathSlots<'a> = ((&'a mut u32, &'a mut Vec2), &'a mut PathRng);
 
 /// Paths per task of [`start_pass`].
 const BLOCK: usize = 1024;
+/// Pixels whose samples and streams are hashed together: eight 32-bit lanes of AVX2.
+const LANES: usize = 8;
