@@ -5,19 +5,20 @@
 //! tests, the stack, four-wide packets with one live lane) costs more than the primitives
 //! themselves. Here the rays are transposed into lanes (`o[axis]`, `d[axis]`, `t_max`, one
 //! ray per lane; see [`super::lanes`]) and each primitive's constants are splatted once per
-//! group: SIMD across rays, not across primitives. Planes are tested first, ray by ray, as the
-//! tree's queries do.
+//! group: SIMD across rays, not across primitives. Planes and disks (a scene has a few) are
+//! tested first, ray by ray, as the tree's queries do.
 //!
 //! Each lane performs exactly the operations of [`super::triangle::Triangle4::intersect`] and
 //! [`super::sphere::Sphere4::intersect`] in the same order, so a lane's `t`, `u`, `v` are the
-//! tree's bit for bit. Ties: the primitives are tested in id order (planes, then triangles,
-//! then spheres) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
+//! tree's bit for bit. Ties: the primitives are tested in a fixed order (planes, disks, then
+//! triangles, then spheres) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
 //! the lowest id wins, where the tree keeps the first one its traversal meets.
 //!
 //! Built only where the CPU has AVX2; elsewhere the tree answers.
 
 use glam::{Vec3, Vec3A};
 
+use super::disk::Disk;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::{L8, L16, Lanes};
 use super::plane::Plane;
@@ -25,7 +26,7 @@ use super::sphere::sphere_bounds;
 use super::triangle::triangle_bounds;
 use super::{Hit, SphereInstance};
 
-/// The most triangles and spheres a scene may hold to be traced flat. Measured with
+/// The most triangles, spheres and disks a scene may hold to be traced flat. Measured with
 /// `cargo bench --bench bvh -- flat`: see that benchmark's crossover.
 pub(crate) const MAX_FLAT_PRIMITIVES: usize = 64;
 
@@ -53,10 +54,11 @@ struct FlatSphere {
     id: u32,
 }
 
-/// The triangles and spheres that can be hit, in id order.
+/// The triangles, spheres and disks that can be hit, in id order.
 pub(crate) struct Flat {
     triangles: Vec<FlatTriangle>,
     spheres: Vec<FlatSphere>,
+    disks: Vec<Disk>,
 }
 
 /// A group of up to [`MAX_LANES`] rays, by coordinate: origins, directions, and `t_max`, NaN
@@ -66,19 +68,20 @@ struct Group {
     o: [[f32; MAX_LANES]; 3],
     d: [[f32; MAX_LANES]; 3],
     t_max: [f32; MAX_LANES],
-    /// Each lane's hit so far (planes first).
+    /// Each lane's hit so far (planes and disks first).
     prim: [u32; MAX_LANES],
 }
 
 impl Group {
-    /// The rays `start..start + lanes` (as many as there are), tested against the planes.
+    /// The rays `start..start + lanes` (as many as there are), tested against the planes and
+    /// the disks.
     #[inline(always)]
     fn load(
         rays: (&[Vec3], &[Vec3], &[f32]),
         t_min: f32,
         start: usize,
         lanes: usize,
-        planes: &[Plane],
+        (planes, disks): (&[Plane], &[Disk]),
     ) -> Self {
         let (origins, dirs, t_maxs) = rays;
         let mut group = Group {
@@ -108,6 +111,11 @@ impl Group {
             for plane in planes {
                 if let Some(t) = plane.intersect(o, d, t_min, group.t_max[lane]) {
                     (group.t_max[lane], group.prim[lane]) = (t, plane.id);
+                }
+            }
+            for disk in disks {
+                if let Some(t) = disk.intersect(o, d, t_min, group.t_max[lane]) {
+                    (group.t_max[lane], group.prim[lane]) = (t, disk.id);
                 }
             }
         }
@@ -241,11 +249,12 @@ fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
 }
 
 impl Flat {
-    /// The triangles and spheres that can be hit (as the tree keeps them); `None` where the
-    /// CPU lacks AVX2.
+    /// The triangles and spheres that can be hit (as the tree keeps them), and the disks;
+    /// `None` where the CPU lacks AVX2.
     pub fn new(
         triangles: &[[Vec3; 3]],
         spheres: &[SphereInstance],
+        disks: &[Disk],
         triangle_id: impl Fn(usize) -> u32,
         sphere_id: impl Fn(usize) -> u32,
     ) -> Option<Flat> {
@@ -282,7 +291,11 @@ impl Flat {
                 }
             })
             .collect();
-        Some(Flat { triangles, spheres })
+        Some(Flat {
+            triangles,
+            spheres,
+            disks: disks.to_vec(),
+        })
     }
 
     /// For each i: hits[i] = the closest hit of ray i with t in (t_min, t_maxs[i]) among the
@@ -346,7 +359,13 @@ impl Flat {
     ) {
         let len = (hits.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
         for (group_index, hits) in hits[..len].chunks_mut(S::LANES).enumerate() {
-            let mut group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
+            let mut group = Group::load(
+                rays,
+                t_min,
+                group_index * S::LANES,
+                S::LANES,
+                (planes, &self.disks),
+            );
             let lanes = group.lanes::<S>(t_min);
             let mut t_max = S::load(&group.t_max);
             let (mut u, mut v) = (S::splat(0.0), S::splat(0.0));
@@ -440,14 +459,20 @@ impl Flat {
     ) {
         let len = (occluded.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
         for (group_index, occluded) in occluded[..len].chunks_mut(S::LANES).enumerate() {
-            let group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
+            let group = Group::load(
+                rays,
+                t_min,
+                group_index * S::LANES,
+                S::LANES,
+                (planes, &self.disks),
+            );
             let lanes = group.lanes::<S>(t_min);
             let t_max = S::load(&group.t_max);
-            // Settled lanes: those a plane blocks, and those that can hit nothing (NaN).
-            let planes_hit = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
+            // Settled lanes: those a plane or a disk blocks, and those that can hit nothing (NaN).
+            let first_hits = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
                 bits | ((prim != NO_HIT) as u32) << lane
             });
-            let mut blocked = planes_hit;
+            let mut blocked = first_hits;
             let unusable = S::bits(t_max.ne(t_max));
             let all = (1u32 << S::LANES) - 1;
             'primitives: {
@@ -483,12 +508,13 @@ mod tests {
 
     use super::super::sphere::Sphere4;
     use super::super::triangle::Triangle4;
-    use super::super::{Accel, PassThrough, PlaneInstance, Primitives};
+    use super::super::{Accel, DiskInstance, PassThrough, PlaneInstance, PrimitiveRef, Primitives};
     use super::*;
 
     /// A random scene of at most [`MAX_FLAT_PRIMITIVES`] primitives: triangles on a
     /// half-unit grid (shared vertices and edges, so exact edge hits and equal-`t` ties), an
-    /// ellipsoid or a few, sometimes a plane, and one degenerate triangle and sphere.
+    /// ellipsoid or a few, sometimes a plane, sometimes an elliptic disk or two, and one
+    /// degenerate triangle and sphere.
     fn scene(rng: &mut Xoshiro256PlusPlus) -> Primitives {
         let mut uniform =
             |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
@@ -520,23 +546,38 @@ mod tests {
         } else {
             Vec::new()
         };
+        let disks = (0..(point().y + 1.0).max(0.0) as usize)
+            .map(|_| DiskInstance {
+                object_to_world: Affine3A::from_scale_rotation_translation(
+                    point().abs() * 0.4 + 0.2,
+                    Quat::from_axis_angle(point().normalize_or(Vec3::X), point().x),
+                    point(),
+                ),
+            })
+            .collect();
         Primitives {
             triangles,
             spheres,
             planes,
+            disks,
             ..Default::default()
         }
     }
 
-    /// Rays from all sides aimed at the triangles' vertices and edges and at the spheres'
-    /// centres, with finite and infinite `t_max`; some unusable (zero direction, NaN, an
+    /// Rays from all sides aimed at the triangles' vertices and edges, at the spheres' centres
+    /// and at points near the disks' rims, with finite and infinite `t_max`; some unusable (zero direction, NaN, an
     /// empty range).
     fn rays(scene: &Primitives, rng: &mut Xoshiro256PlusPlus) -> (Vec<Vec3>, Vec<Vec3>, Vec<f32>) {
         let mut rays = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..203 {
             let mut uniform =
                 |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
-            let aim = if i % 3 == 0 {
+            let aim = if i % 7 == 5 && !scene.disks.is_empty() {
+                let (s, c) = uniform(0.0, 6.3).sin_cos();
+                let r = uniform(0.9, 1.1);
+                let disk = scene.disks[i % scene.disks.len()].object_to_world;
+                disk.transform_point3(Vec3::new(r * c, r * s, 0.0))
+            } else if i % 3 == 0 {
                 scene.spheres[i % scene.spheres.len()]
                     .object_to_world
                     .translation
@@ -563,8 +604,9 @@ mod tests {
         rays
     }
 
-    /// The closest hit by brute force with the stated tie rule: planes, triangles, spheres in
-    /// id order, each by its one-lane packet test, a hit kept only if strictly nearer.
+    /// The closest hit by brute force with the stated tie rule: planes, disks, triangles,
+    /// spheres in that order, each by its one-lane packet test, a hit kept only if strictly
+    /// nearer.
     fn brute_force(accel: &Accel, scene: &Primitives, o: Vec3, d: Vec3, t_max: f32) -> Option<Hit> {
         let ray = super::super::bvh::Ray::new(o.into(), d.into())?;
         if t_max.is_nan() || t_max <= 0.0 {
@@ -578,6 +620,19 @@ mod tests {
                     Some(Hit {
                         t,
                         prim: plane.id,
+                        u: 0.0,
+                        v: 0.0,
+                    }),
+                );
+            }
+        }
+        for disk in &accel.disks {
+            if let Some(t) = disk.intersect(ray.origin, ray.dir, 0.0, t_max) {
+                (t_max, best) = (
+                    t,
+                    Some(Hit {
+                        t,
+                        prim: disk.id,
                         u: 0.0,
                         v: 0.0,
                     }),
@@ -629,7 +684,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     fn flat_matches_brute_force_and_tree() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(8);
-        let (mut hits, mut occluded, mut passed, mut ties) = (0, 0, 0, 0);
+        let (mut hits, mut occluded, mut passed, mut ties, mut disk_hits) = (0, 0, 0, 0, 0);
         for _ in 0..300 {
             let scene = scene(&mut rng);
             let accel = Accel::build(&scene);
@@ -685,6 +740,9 @@ mod tests {
                 assert_eq!(expected.map(|h| h.t), tree.map(|h| h.t), "ray {i}");
                 ties += (expected != tree) as usize;
                 hits += expected.is_some() as usize;
+                let on_disk =
+                    |h: Hit| matches!(accel.ids().decode(h.prim), Some(PrimitiveRef::Disk(_)));
+                disk_hits += expected.is_some_and(on_disk) as usize;
                 let any = accel.any_hit(o, d, 0.0, t_max);
                 for b in &blocked {
                     assert_eq!(b[i], any, "ray {i}");
@@ -696,8 +754,9 @@ mod tests {
             }
         }
         assert!(
-            hits > 10_000 && occluded > 10_000 && passed > 1000 && ties > 0,
-            "{hits} hits, {occluded} occluded, {passed} passed through, {ties} ties"
+            hits > 10_000 && occluded > 10_000 && passed > 1000 && ties > 0 && disk_hits > 500,
+            "{hits} hits ({disk_hits} on disks), {occluded} occluded, {passed} passed through, \
+             {ties} ties"
         );
     }
 }

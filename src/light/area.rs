@@ -1,4 +1,4 @@
-//! Area lights: emissive shapes, sampled by area (triangles, parallelograms), by the solid
+//! Area lights: emissive shapes, sampled by area (triangles, parallelograms, disks), by the solid
 //! angle they subtend (rectangles, when asked: `Techniques::solid_angle_rectangles`, within
 //! [`SOLID_ANGLE_RANGE`]) or by the cone they subtend (spheres), one-sided on the side of the
 //! geometric normal.
@@ -12,8 +12,10 @@ use crate::accel::PrimitiveRef;
 use crate::film::luminance;
 use crate::sampling::AliasTable;
 use crate::sampling::spherical_rectangle::{Rectangle, SphericalRectangle};
-use crate::sampling::warp::{uniform_cone, uniform_cone_pdf, uniform_sphere, uniform_triangle};
-use crate::shape::geometry::{EmissiveShape, SceneGeometry};
+use crate::sampling::warp::{
+    concentric_disk, uniform_cone, uniform_cone_pdf, uniform_sphere, uniform_triangle,
+};
+use crate::shape::geometry::{DiskShape, EmissiveShape, SceneGeometry};
 
 #[derive(Clone, Debug)]
 pub struct AreaLight {
@@ -35,6 +37,7 @@ enum EmitterShape {
         centre: Vec3,
         radius: f32,
     },
+    Disk(EmitterDisk),
 }
 
 /// The solid angles (sr) within which a rectangle lamp is sampled uniformly in solid angle
@@ -93,6 +96,7 @@ impl AreaLight {
                     radius: sphere.radius * scale,
                 }
             }
+            PrimitiveRef::Disk(i) => EmitterShape::Disk(EmitterDisk::new(geometry.disks.get(i)?)?),
             // An infinite plane cannot be sampled: the builder never makes it an emitter.
             PrimitiveRef::Plane(_) => return None,
         };
@@ -111,6 +115,7 @@ impl AreaLight {
             EmitterShape::Parallelogram(parallelogram) => parallelogram.area,
             EmitterShape::Triangles { area, .. } => *area,
             EmitterShape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+            EmitterShape::Disk(disk) => disk.area,
         }
     }
 
@@ -172,6 +177,9 @@ impl AreaLight {
                     delta: false,
                 })
             }
+            EmitterShape::Disk(disk) => {
+                sample_towards(p, disk.point(u), disk.normal, disk.area, self.radiance)
+            }
         }
     }
 
@@ -202,6 +210,7 @@ impl AreaLight {
                 }
             }
             EmitterShape::Triangles { area, .. } => area_pdf(p, point, normal, *area),
+            EmitterShape::Disk(disk) => area_pdf(p, point, normal, disk.area),
             EmitterShape::Sphere { centre, radius } => {
                 let d2 = (*centre - p).length_squared();
                 let r2 = radius * radius;
@@ -275,6 +284,38 @@ fn area_pdf(p: Vec3, point: Vec3, normal: Vec3, area: f32) -> f32 {
         0.0
     } else {
         to_light.length_squared() / (cos_light * area)
+    }
+}
+
+/// An emitting disk, sampled uniformly by area as Mitsuba 3's (`disk.cpp`, `sample_position`):
+/// a point `(a, b)` of the unit disk by the concentric map (uniform in area, Shirley and Chiu
+/// 1997), placed at `centre + a Mx + b My`. An affine map scales every area by the same factor,
+/// so the placed point is uniform on the ellipse too: density 1 / area.
+#[derive(Clone, Debug)]
+struct EmitterDisk {
+    centre: Vec3,
+    axis_x: Vec3,
+    axis_y: Vec3,
+    normal: Vec3,
+    area: f32,
+}
+
+impl EmitterDisk {
+    /// `None` for a disk without area.
+    fn new(disk: &DiskShape) -> Option<Self> {
+        let m = disk.object_to_world;
+        (disk.area > 0.0 && disk.area.is_finite()).then(|| Self {
+            centre: m.translation.into(),
+            axis_x: m.matrix3.x_axis.into(),
+            axis_y: m.matrix3.y_axis.into(),
+            normal: disk.normal,
+            area: disk.area,
+        })
+    }
+
+    fn point(&self, u: Vec2) -> Vec3 {
+        let q = concentric_disk(u);
+        self.centre + self.axis_x * q.x + self.axis_y * q.y
     }
 }
 
