@@ -108,7 +108,7 @@ pub struct DiskShape {
 }
 
 impl DiskShape {
-    fn new(object_to_world: Affine3A, uv: bool) -> DiskShape {
+    pub fn new(object_to_world: Affine3A, uv: bool) -> DiskShape {
         let m = object_to_world.matrix3;
         let across = Vec3::from(m.x_axis.cross(m.y_axis));
         DiskShape {
