@@ -33,6 +33,18 @@ impl Disk {
         })
     }
 
+    /// The rows of the world-to-object map (column 3 the translation), for the flat tests.
+    pub fn rows(&self) -> [[f32; 4]; 3] {
+        let m = &self.world_to_object;
+        let columns = [
+            m.matrix3.x_axis,
+            m.matrix3.y_axis,
+            m.matrix3.z_axis,
+            m.translation,
+        ];
+        [0, 1, 2].map(|i| columns.map(|column| column[i]))
+    }
+
     /// The hit's `t` in `(t_min, t_max)`, if the ray `o + t d` meets the disk. A ray parallel
     /// to the disk's plane (`d_z = 0` in object space) gives `t` = ±∞ or NaN, which the range
     /// test rejects.
@@ -40,7 +52,7 @@ impl Disk {
     pub fn intersect(&self, o: Vec3A, d: Vec3A, t_min: f32, t_max: f32) -> Option<f32> {
         let o = self.world_to_object.transform_point3a(o);
         let d = self.world_to_object.transform_vector3a(d);
-        let t = -o.z / d.z;
+        let t = (0.0 - o.z) / d.z;
         let (x, y) = (o.x + t * d.x, o.y + t * d.y);
         (t > t_min && t < t_max && x * x + y * y <= 1.0).then_some(t)
     }

@@ -5,13 +5,13 @@
 //! tests, the stack, four-wide packets with one live lane) costs more than the primitives
 //! themselves. Here the rays are transposed into lanes (`o[axis]`, `d[axis]`, `t_max`, one
 //! ray per lane; see [`super::lanes`]) and each primitive's constants are splatted once per
-//! group: SIMD across rays, not across primitives. Planes and disks (a scene has a few) are
-//! tested first, ray by ray, as the tree's queries do.
+//! group: SIMD across rays, not across primitives. Planes are tested first, ray by ray, as the
+//! tree's queries do; disks last, in lanes.
 //!
 //! Each lane performs exactly the operations of [`super::triangle::Triangle4::intersect`] and
 //! [`super::sphere::Sphere4::intersect`] in the same order, so a lane's `t`, `u`, `v` are the
-//! tree's bit for bit. Ties: the primitives are tested in a fixed order (planes, disks, then
-//! triangles, then spheres) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
+//! tree's bit for bit (and [`super::disk::Disk::intersect`]'s). Ties: the primitives are
+//! tested in a fixed order (planes, triangles, spheres, then disks) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
 //! the lowest id wins, where the tree keeps the first one its traversal meets.
 //!
 //! Built only where the CPU has AVX2; elsewhere the tree answers.
@@ -54,11 +54,19 @@ struct FlatSphere {
     id: u32,
 }
 
+/// A disk as the lane test uses it: the rows of its world-to-object map (column 3 the
+/// translation).
+#[derive(Clone, Copy, Debug)]
+struct FlatDisk {
+    rows: [[f32; 4]; 3],
+    id: u32,
+}
+
 /// The triangles, spheres and disks that can be hit, in id order.
 pub(crate) struct Flat {
     triangles: Vec<FlatTriangle>,
     spheres: Vec<FlatSphere>,
-    disks: Vec<Disk>,
+    disks: Vec<FlatDisk>,
 }
 
 /// A group of up to [`MAX_LANES`] rays, by coordinate: origins, directions, and `t_max`, NaN
@@ -68,20 +76,19 @@ struct Group {
     o: [[f32; MAX_LANES]; 3],
     d: [[f32; MAX_LANES]; 3],
     t_max: [f32; MAX_LANES],
-    /// Each lane's hit so far (planes and disks first).
+    /// Each lane's hit so far (planes first).
     prim: [u32; MAX_LANES],
 }
 
 impl Group {
-    /// The rays `start..start + lanes` (as many as there are), tested against the planes and
-    /// the disks.
+    /// The rays `start..start + lanes` (as many as there are), tested against the planes.
     #[inline(always)]
     fn load(
         rays: (&[Vec3], &[Vec3], &[f32]),
         t_min: f32,
         start: usize,
         lanes: usize,
-        (planes, disks): (&[Plane], &[Disk]),
+        planes: &[Plane],
     ) -> Self {
         let (origins, dirs, t_maxs) = rays;
         let mut group = Group {
@@ -111,11 +118,6 @@ impl Group {
             for plane in planes {
                 if let Some(t) = plane.intersect(o, d, t_min, group.t_max[lane]) {
                     (group.t_max[lane], group.prim[lane]) = (t, plane.id);
-                }
-            }
-            for disk in disks {
-                if let Some(t) = disk.intersect(o, d, t_min, group.t_max[lane]) {
-                    (group.t_max[lane], group.prim[lane]) = (t, disk.id);
                 }
             }
         }
@@ -239,6 +241,28 @@ fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Opti
     (S::bits(hit) != 0).then_some((hit, far.replaced(near_in, near)))
 }
 
+/// The disk test of `Disk::intersect`, its operations in its order, one ray per lane: where
+/// the rays hit with `t` in `(t_min, t_max)`, and `t`; `None` where none does.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+    let map = |row: &[f32; 4], p: &[S; 3]| {
+        S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
+    };
+    let [r0, r1, r2] = &disk.rows;
+    let o = [
+        map(r0, &rays.o) + S::splat(r0[3]),
+        map(r1, &rays.o) + S::splat(r1[3]),
+        map(r2, &rays.o) + S::splat(r2[3]),
+    ];
+    let d = [map(r0, &rays.d), map(r1, &rays.d), map(r2, &rays.d)];
+    let t = (S::splat(0.0) - o[2]) / d[2];
+    let (x, y) = (o[0] + t * d[0], o[1] + t * d[1]);
+    let range = S::and(t.gt(rays.t_min), t.lt(t_max));
+    let hit = S::and(range, (x * x + y * y).le(S::splat(1.0)));
+    (S::bits(hit) != 0).then_some((hit, t))
+}
+
 /// Calls `f(lane)` for each bit set in `bits`.
 #[inline(always)]
 fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
@@ -291,10 +315,16 @@ impl Flat {
                 }
             })
             .collect();
+        let disks = (disks.iter())
+            .map(|disk| FlatDisk {
+                rows: disk.rows(),
+                id: disk.id,
+            })
+            .collect();
         Some(Flat {
             triangles,
             spheres,
-            disks: disks.to_vec(),
+            disks,
         })
     }
 
@@ -359,13 +389,7 @@ impl Flat {
     ) {
         let len = (hits.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
         for (group_index, hits) in hits[..len].chunks_mut(S::LANES).enumerate() {
-            let mut group = Group::load(
-                rays,
-                t_min,
-                group_index * S::LANES,
-                S::LANES,
-                (planes, &self.disks),
-            );
+            let mut group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
             let lanes = group.lanes::<S>(t_min);
             let mut t_max = S::load(&group.t_max);
             let (mut u, mut v) = (S::splat(0.0), S::splat(0.0));
@@ -382,6 +406,14 @@ impl Flat {
                     let zero = S::splat(0.0);
                     (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
                     for_each_lane(S::bits(hit), |lane| group.prim[lane] = sphere.id);
+                }
+            }
+            for disk in &self.disks {
+                if let Some((hit, t)) = disk_lanes(disk, &lanes, t_max) {
+                    t_max = t_max.replaced(hit, t);
+                    let zero = S::splat(0.0);
+                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = disk.id);
                 }
             }
             let (mut us, mut vs) = ([0.0; MAX_LANES], [0.0; MAX_LANES]);
@@ -459,20 +491,14 @@ impl Flat {
     ) {
         let len = (occluded.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
         for (group_index, occluded) in occluded[..len].chunks_mut(S::LANES).enumerate() {
-            let group = Group::load(
-                rays,
-                t_min,
-                group_index * S::LANES,
-                S::LANES,
-                (planes, &self.disks),
-            );
+            let group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
             let lanes = group.lanes::<S>(t_min);
             let t_max = S::load(&group.t_max);
-            // Settled lanes: those a plane or a disk blocks, and those that can hit nothing (NaN).
-            let first_hits = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
+            // Settled lanes: those a plane blocks, and those that can hit nothing (NaN).
+            let planes_hit = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
                 bits | ((prim != NO_HIT) as u32) << lane
             });
-            let mut blocked = first_hits;
+            let mut blocked = planes_hit;
             let unusable = S::bits(t_max.ne(t_max));
             let all = (1u32 << S::LANES) - 1;
             'primitives: {
@@ -489,6 +515,14 @@ impl Flat {
                         break 'primitives;
                     }
                     if let Some((hit, _)) = sphere_lanes(sphere, &lanes, t_max) {
+                        blocked |= S::bits(hit);
+                    }
+                }
+                for disk in &self.disks {
+                    if (blocked | unusable) == all {
+                        break 'primitives;
+                    }
+                    if let Some((hit, _)) = disk_lanes(disk, &lanes, t_max) {
                         blocked |= S::bits(hit);
                     }
                 }
@@ -604,8 +638,8 @@ mod tests {
         rays
     }
 
-    /// The closest hit by brute force with the stated tie rule: planes, disks, triangles,
-    /// spheres in that order, each by its one-lane packet test, a hit kept only if strictly
+    /// The closest hit by brute force with the stated tie rule: planes, triangles, spheres,
+    /// disks in that order, each by its one-lane packet test, a hit kept only if strictly
     /// nearer.
     fn brute_force(accel: &Accel, scene: &Primitives, o: Vec3, d: Vec3, t_max: f32) -> Option<Hit> {
         let ray = super::super::bvh::Ray::new(o.into(), d.into())?;
@@ -620,19 +654,6 @@ mod tests {
                     Some(Hit {
                         t,
                         prim: plane.id,
-                        u: 0.0,
-                        v: 0.0,
-                    }),
-                );
-            }
-        }
-        for disk in &accel.disks {
-            if let Some(t) = disk.intersect(ray.origin, ray.dir, 0.0, t_max) {
-                (t_max, best) = (
-                    t,
-                    Some(Hit {
-                        t,
-                        prim: disk.id,
                         u: 0.0,
                         v: 0.0,
                     }),
@@ -667,6 +688,19 @@ mod tests {
                     Some(Hit {
                         t: hit.t,
                         prim,
+                        u: 0.0,
+                        v: 0.0,
+                    }),
+                );
+            }
+        }
+        for disk in &accel.disks {
+            if let Some(t) = disk.intersect(ray.origin, ray.dir, 0.0, t_max) {
+                (t_max, best) = (
+                    t,
+                    Some(Hit {
+                        t,
+                        prim: disk.id,
                         u: 0.0,
                         v: 0.0,
                     }),
