@@ -1,7 +1,7 @@
 //! Disks: the unit disk `z = 0, x² + y² <= 1` of an object space placed by an affine map (an
 //! ellipse under a non-uniform scale), as Mitsuba 3's `disk` (`src/shapes/disk.cpp`). A scene
-//! has a few (lamps), so they live outside the trees and each ray tests each, as it does the
-//! planes.
+//! has a few (lamps), so they live outside the trees and each ray tests each: beside the planes
+//! in the tree's queries, in lanes after the spheres on the flat path (`flat::disk_lanes`).
 //!
 //! The ray is carried into the disk's object space by the inverse map; an affine map sends
 //! `o + t d` to `M⁻¹o + t M⁻¹d`, so `t` is the same in both spaces. There the plane `z = 0`
