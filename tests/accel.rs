@@ -811,6 +811,7 @@ fn instances_match_flattened_brute_force() {
         planes: random_planes(&mut r, 1),
         meshes,
         instances,
+        ..Default::default()
     };
     // The flat twin: world triangles, then every instance's triangles, then spheres and planes.
     let mut flat = Primitives {
@@ -842,6 +843,7 @@ fn instances_match_flattened_brute_force() {
         }
         PrimitiveRef::Sphere(i) => ids.sphere(i),
         PrimitiveRef::Plane(i) => ids.plane(i),
+        PrimitiveRef::Disk(i) => ids.disk(i),
         PrimitiveRef::InstanceTriangle { .. } => unreachable!("the flat twin has no instances"),
     };
     check_against_flat(&p, &flat, to_p, 20, 4000);

@@ -6,18 +6,19 @@
 //! themselves. Here the rays are transposed into lanes (`o[axis]`, `d[axis]`, `t_max`, one
 //! ray per lane; see [`super::lanes`]) and each primitive's constants are splatted once per
 //! group: SIMD across rays, not across primitives. Planes are tested first, ray by ray, as the
-//! tree's queries do.
+//! tree's queries do; disks last, in lanes.
 //!
 //! Each lane performs exactly the operations of [`super::triangle::Triangle4::intersect`] and
 //! [`super::sphere::Sphere4::intersect`] in the same order, so a lane's `t`, `u`, `v` are the
-//! tree's bit for bit. Ties: the primitives are tested in id order (planes, then triangles,
-//! then spheres) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
+//! tree's bit for bit (and [`super::disk::Disk::intersect`]'s). Ties: the primitives are
+//! tested in a fixed order (planes, triangles, spheres, then disks) and a hit replaces the lane's best only if strictly nearer, so at equal `t`
 //! the lowest id wins, where the tree keeps the first one its traversal meets.
 //!
 //! Built only where the CPU has AVX2; elsewhere the tree answers.
 
 use glam::{Vec3, Vec3A};
 
+use super::disk::Disk;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::{L8, L16, Lanes};
 use super::plane::Plane;
@@ -25,7 +26,7 @@ use super::sphere::sphere_bounds;
 use super::triangle::triangle_bounds;
 use super::{Hit, SphereInstance};
 
-/// The most triangles and spheres a scene may hold to be traced flat. Measured with
+/// The most triangles, spheres and disks a scene may hold to be traced flat. Measured with
 /// `cargo bench --bench bvh -- flat`: see that benchmark's crossover.
 pub(crate) const MAX_FLAT_PRIMITIVES: usize = 64;
 
@@ -53,10 +54,19 @@ struct FlatSphere {
     id: u32,
 }
 
-/// The triangles and spheres that can be hit, in id order.
+/// A disk as the lane test uses it: the rows of its world-to-object map (column 3 the
+/// translation).
+#[derive(Clone, Copy, Debug)]
+struct FlatDisk {
+    rows: [[f32; 4]; 3],
+    id: u32,
+}
+
+/// The triangles, spheres and disks that can be hit, in id order.
 pub(crate) struct Flat {
     triangles: Vec<FlatTriangle>,
     spheres: Vec<FlatSphere>,
+    disks: Vec<FlatDisk>,
 }
 
 /// A group of up to [`MAX_LANES`] rays, by coordinate: origins, directions, and `t_max`, NaN
@@ -231,6 +241,28 @@ fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Opti
     (S::bits(hit) != 0).then_some((hit, far.replaced(near_in, near)))
 }
 
+/// The disk test of `Disk::intersect`, its operations in its order, one ray per lane: where
+/// the rays hit with `t` in `(t_min, t_max)`, and `t`; `None` where none does.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+    let map = |row: &[f32; 4], p: &[S; 3]| {
+        S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
+    };
+    let [r0, r1, r2] = &disk.rows;
+    let o = [
+        map(r0, &rays.o) + S::splat(r0[3]),
+        map(r1, &rays.o) + S::splat(r1[3]),
+        map(r2, &rays.o) + S::splat(r2[3]),
+    ];
+    let d = [map(r0, &rays.d), map(r1, &rays.d), map(r2, &rays.d)];
+    let t = (S::splat(0.0) - o[2]) / d[2];
+    let (x, y) = (o[0] + t * d[0], o[1] + t * d[1]);
+    let range = S::and(t.gt(rays.t_min), t.lt(t_max));
+    let hit = S::and(range, (x * x + y * y).le(S::splat(1.0)));
+    (S::bits(hit) != 0).then_some((hit, t))
+}
+
 /// Calls `f(lane)` for each bit set in `bits`.
 #[inline(always)]
 fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
@@ -241,11 +273,12 @@ fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
 }
 
 impl Flat {
-    /// The triangles and spheres that can be hit (as the tree keeps them); `None` where the
-    /// CPU lacks AVX2.
+    /// The triangles and spheres that can be hit (as the tree keeps them), and the disks;
+    /// `None` where the CPU lacks AVX2.
     pub fn new(
         triangles: &[[Vec3; 3]],
         spheres: &[SphereInstance],
+        disks: &[Disk],
         triangle_id: impl Fn(usize) -> u32,
         sphere_id: impl Fn(usize) -> u32,
     ) -> Option<Flat> {
@@ -282,7 +315,17 @@ impl Flat {
                 }
             })
             .collect();
-        Some(Flat { triangles, spheres })
+        let disks = (disks.iter())
+            .map(|disk| FlatDisk {
+                rows: disk.rows(),
+                id: disk.id,
+            })
+            .collect();
+        Some(Flat {
+            triangles,
+            spheres,
+            disks,
+        })
     }
 
     /// For each i: hits[i] = the closest hit of ray i with t in (t_min, t_maxs[i]) among the
@@ -363,6 +406,14 @@ impl Flat {
                     let zero = S::splat(0.0);
                     (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
                     for_each_lane(S::bits(hit), |lane| group.prim[lane] = sphere.id);
+                }
+            }
+            for disk in &self.disks {
+                if let Some((hit, t)) = disk_lanes(disk, &lanes, t_max) {
+                    t_max = t_max.replaced(hit, t);
+                    let zero = S::splat(0.0);
+                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = disk.id);
                 }
             }
             let (mut us, mut vs) = ([0.0; MAX_LANES], [0.0; MAX_LANES]);
@@ -467,6 +518,14 @@ impl Flat {
                         blocked |= S::bits(hit);
                     }
                 }
+                for disk in &self.disks {
+                    if (blocked | unusable) == all {
+                        break 'primitives;
+                    }
+                    if let Some((hit, _)) = disk_lanes(disk, &lanes, t_max) {
+                        blocked |= S::bits(hit);
+                    }
+                }
             }
             for (lane, occ) in occluded.iter_mut().enumerate() {
                 *occ = blocked & (1 << lane) != 0;
@@ -483,12 +542,13 @@ mod tests {
 
     use super::super::sphere::Sphere4;
     use super::super::triangle::Triangle4;
-    use super::super::{Accel, PassThrough, PlaneInstance, Primitives};
+    use super::super::{Accel, DiskInstance, PassThrough, PlaneInstance, PrimitiveRef, Primitives};
     use super::*;
 
     /// A random scene of at most [`MAX_FLAT_PRIMITIVES`] primitives: triangles on a
     /// half-unit grid (shared vertices and edges, so exact edge hits and equal-`t` ties), an
-    /// ellipsoid or a few, sometimes a plane, and one degenerate triangle and sphere.
+    /// ellipsoid or a few, sometimes a plane, sometimes an elliptic disk or two, and one
+    /// degenerate triangle and sphere.
     fn scene(rng: &mut Xoshiro256PlusPlus) -> Primitives {
         let mut uniform =
             |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
@@ -520,23 +580,38 @@ mod tests {
         } else {
             Vec::new()
         };
+        let disks = (0..(point().y + 1.0).max(0.0) as usize)
+            .map(|_| DiskInstance {
+                object_to_world: Affine3A::from_scale_rotation_translation(
+                    point().abs() * 0.4 + 0.2,
+                    Quat::from_axis_angle(point().normalize_or(Vec3::X), point().x),
+                    point(),
+                ),
+            })
+            .collect();
         Primitives {
             triangles,
             spheres,
             planes,
+            disks,
             ..Default::default()
         }
     }
 
-    /// Rays from all sides aimed at the triangles' vertices and edges and at the spheres'
-    /// centres, with finite and infinite `t_max`; some unusable (zero direction, NaN, an
+    /// Rays from all sides aimed at the triangles' vertices and edges, at the spheres' centres
+    /// and at points near the disks' rims, with finite and infinite `t_max`; some unusable (zero direction, NaN, an
     /// empty range).
     fn rays(scene: &Primitives, rng: &mut Xoshiro256PlusPlus) -> (Vec<Vec3>, Vec<Vec3>, Vec<f32>) {
         let mut rays = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..203 {
             let mut uniform =
                 |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
-            let aim = if i % 3 == 0 {
+            let aim = if i % 7 == 5 && !scene.disks.is_empty() {
+                let (s, c) = uniform(0.0, 6.3).sin_cos();
+                let r = uniform(0.9, 1.1);
+                let disk = scene.disks[i % scene.disks.len()].object_to_world;
+                disk.transform_point3(Vec3::new(r * c, r * s, 0.0))
+            } else if i % 3 == 0 {
                 scene.spheres[i % scene.spheres.len()]
                     .object_to_world
                     .translation
@@ -563,8 +638,9 @@ mod tests {
         rays
     }
 
-    /// The closest hit by brute force with the stated tie rule: planes, triangles, spheres in
-    /// id order, each by its one-lane packet test, a hit kept only if strictly nearer.
+    /// The closest hit by brute force with the stated tie rule: planes, triangles, spheres,
+    /// disks in that order, each by its one-lane packet test, a hit kept only if strictly
+    /// nearer.
     fn brute_force(accel: &Accel, scene: &Primitives, o: Vec3, d: Vec3, t_max: f32) -> Option<Hit> {
         let ray = super::super::bvh::Ray::new(o.into(), d.into())?;
         if t_max.is_nan() || t_max <= 0.0 {
@@ -618,6 +694,19 @@ mod tests {
                 );
             }
         }
+        for disk in &accel.disks {
+            if let Some(t) = disk.intersect(ray.origin, ray.dir, 0.0, t_max) {
+                (t_max, best) = (
+                    t,
+                    Some(Hit {
+                        t,
+                        prim: disk.id,
+                        u: 0.0,
+                        v: 0.0,
+                    }),
+                );
+            }
+        }
         best
     }
 
@@ -629,7 +718,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     fn flat_matches_brute_force_and_tree() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(8);
-        let (mut hits, mut occluded, mut passed, mut ties) = (0, 0, 0, 0);
+        let (mut hits, mut occluded, mut passed, mut ties, mut disk_hits) = (0, 0, 0, 0, 0);
         for _ in 0..300 {
             let scene = scene(&mut rng);
             let accel = Accel::build(&scene);
@@ -685,6 +774,9 @@ mod tests {
                 assert_eq!(expected.map(|h| h.t), tree.map(|h| h.t), "ray {i}");
                 ties += (expected != tree) as usize;
                 hits += expected.is_some() as usize;
+                let on_disk =
+                    |h: Hit| matches!(accel.ids().decode(h.prim), Some(PrimitiveRef::Disk(_)));
+                disk_hits += expected.is_some_and(on_disk) as usize;
                 let any = accel.any_hit(o, d, 0.0, t_max);
                 for b in &blocked {
                     assert_eq!(b[i], any, "ray {i}");
@@ -696,8 +788,9 @@ mod tests {
             }
         }
         assert!(
-            hits > 10_000 && occluded > 10_000 && passed > 1000 && ties > 0,
-            "{hits} hits, {occluded} occluded, {passed} passed through, {ties} ties"
+            hits > 10_000 && occluded > 10_000 && passed > 1000 && ties > 0 && disk_hits > 500,
+            "{hits} hits ({disk_hits} on disks), {occluded} occluded, {passed} passed through, \
+             {ties} ties"
         );
     }
 }

@@ -1,6 +1,6 @@
 //! Ray queries against the scene's geometry: a two-level, four-wide BVH over triangles,
-//! transformed spheres and instances of shared meshes, plus unbounded planes tested outside
-//! the trees.
+//! transformed spheres and instances of shared meshes, plus unbounded planes and a scene's few
+//! disks tested outside the trees.
 //!
 //! The bottom level ([`Blas`]) is a [`bvh::Bvh`] over triangles and spheres in one space: its
 //! triangle leaves are [`triangle::Triangle4`] packets tested four at a time, its sphere leaves
@@ -15,6 +15,7 @@
 mod aabb;
 mod blas;
 mod bvh;
+mod disk;
 mod flat;
 mod instances;
 mod lanes;
@@ -33,6 +34,7 @@ use rayon::prelude::*;
 
 use blas::Blas;
 use bvh::{Ray, Shape};
+use disk::Disk;
 use flat::Flat;
 use instances::Instances;
 pub use pass_through::PassThrough;
@@ -54,6 +56,13 @@ pub struct PlaneInstance {
     pub normal: Vec3,
 }
 
+/// The unit disk `z = 0, x² + y² <= 1` of its object space (normal +z), placed by
+/// `object_to_world` (any affine map: a non-uniform scale makes an ellipse).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiskInstance {
+    pub object_to_world: Affine3A,
+}
+
 /// A placed copy of `meshes[mesh]`: its triangles mapped by `object_to_world` (any affine map).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshInstance {
@@ -61,13 +70,14 @@ pub struct MeshInstance {
     pub object_to_world: Affine3A,
 }
 
-/// The scene's primitives: triangles, spheres and planes in world space, and instances of
+/// The scene's primitives: triangles, spheres, planes and disks in world space, and instances of
 /// shared meshes (given in their object space). [`PrimitiveIds`] numbers them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Primitives {
     pub triangles: Vec<[Vec3; 3]>,
     pub spheres: Vec<SphereInstance>,
     pub planes: Vec<PlaneInstance>,
+    pub disks: Vec<DiskInstance>,
     pub meshes: Vec<Vec<[Vec3; 3]>>,
     pub instances: Vec<MeshInstance>,
 }
@@ -117,11 +127,12 @@ impl BuildStats {
 /// all threads.
 pub struct Accel {
     world: Blas,
-    /// The world's triangles and spheres for the batch queries when they are few and there
-    /// are no instances (see [`flat`]).
+    /// The world's triangles, spheres and disks for the batch queries when they are few and
+    /// there are no instances (see [`flat`]).
     flat: Option<Flat>,
     instances: Instances,
     planes: Vec<Plane>,
+    disks: Vec<Disk>,
     prim_ids: PrimitiveIds,
     stats: BuildStats,
 }
@@ -137,7 +148,7 @@ impl Accel {
     }
 
     /// [`Accel::build`], with the batch queries tested flat (see [`flat`]) for up to
-    /// `max_flat` triangles and spheres rather than [`flat::MAX_FLAT_PRIMITIVES`]: 0 keeps
+    /// `max_flat` triangles, spheres and disks rather than [`flat::MAX_FLAT_PRIMITIVES`]: 0 keeps
     /// the tree for every scene (benchmarks compare the two).
     pub fn build_with_flat_limit(primitives: &Primitives, max_flat: usize) -> Accel {
         let start = Instant::now();
@@ -153,11 +164,15 @@ impl Accel {
             },
             || Instances::build(primitives, &prim_ids),
         );
-        let few = primitives.triangles.len() + primitives.spheres.len() <= max_flat;
+        let disks: Vec<Disk> = (primitives.disks.iter().enumerate())
+            .filter_map(|(i, d)| Disk::new(d, prim_ids.disk(i)))
+            .collect();
+        let few = primitives.triangles.len() + primitives.spheres.len() + disks.len() <= max_flat;
         let flat = if few && primitives.instances.is_empty() {
             Flat::new(
                 &primitives.triangles,
                 &primitives.spheres,
+                &disks,
                 |i| prim_ids.triangle(i),
                 |i| prim_ids.sphere(i),
             )
@@ -183,6 +198,7 @@ impl Accel {
             flat,
             instances,
             planes,
+            disks,
             prim_ids,
             stats,
         }
@@ -205,8 +221,9 @@ impl Accel {
     /// Closest hit with t in (t_min, t_max), ray p = origin + t * dir (dir need not be unit
     /// length; t is in its units).
     ///
-    /// Planes are tested first: a plane hit shrinks `t_max` before traversal, so a ground plane
-    /// culls everything beneath it. A tree's hit replaces it only if strictly nearer.
+    /// Planes and disks are tested first: their hit shrinks `t_max` before traversal, so a
+    /// ground plane culls everything beneath it. A tree's hit replaces it only if strictly
+    /// nearer.
     pub fn closest_hit(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
         vex::run(|| self.find_closest(origin, dir, t_min, t_max))
     }
@@ -233,6 +250,17 @@ impl Accel {
                 });
             }
         }
+        for disk in &self.disks {
+            if let Some(t) = disk.intersect(ray.origin, ray.dir, t_min, t_max) {
+                t_max = t;
+                closest = Some(Hit {
+                    t,
+                    prim: disk.id,
+                    u: 0.0,
+                    v: 0.0,
+                });
+            }
+        }
         self.world
             .find::<false>(&ray, t_min, &mut t_max, &mut closest);
         self.instances
@@ -254,7 +282,9 @@ impl Accel {
         let Some(ray) = Ray::new(origin.into(), dir.into()) else {
             return false;
         };
-        if (self.planes.iter()).any(|p| p.intersect(ray.origin, ray.dir, t_min, t_max).is_some()) {
+        if (self.planes.iter()).any(|p| p.intersect(ray.origin, ray.dir, t_min, t_max).is_some())
+            || (self.disks.iter()).any(|d| d.intersect(ray.origin, ray.dir, t_min, t_max).is_some())
+        {
             return true;
         }
         let (mut t_max, mut found) = (t_max, None);

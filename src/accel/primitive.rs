@@ -1,8 +1,8 @@
 //! Primitive ids: one number space over every primitive of a [`Primitives`], encoded and
 //! decoded here and nowhere else.
 //!
-//! The ids number the world-space triangles first, then the spheres, then the planes, then
-//! the triangles of each mesh instance in turn (instance `k` holds as many ids as its mesh has
+//! The ids number the world-space triangles first, then the spheres, then the planes, then the
+//! disks, then the triangles of each mesh instance in turn (instance `k` holds as many ids as its mesh has
 //! triangles). Instances come last so that adding them leaves every other id unchanged.
 
 use super::Primitives;
@@ -13,6 +13,7 @@ pub enum PrimitiveRef {
     Triangle(usize),
     Sphere(usize),
     Plane(usize),
+    Disk(usize),
     /// Triangle `triangle` of the mesh that instance `instance` places.
     InstanceTriangle {
         instance: usize,
@@ -26,6 +27,7 @@ pub struct PrimitiveIds {
     triangles: u32,
     spheres: u32,
     planes: u32,
+    disks: u32,
     /// First id of each instance, then one past the last id.
     instance_starts: Vec<u32>,
 }
@@ -33,12 +35,13 @@ pub struct PrimitiveIds {
 impl PrimitiveIds {
     /// The layout of `primitives`. An instance of a missing mesh holds no ids.
     pub fn new(primitives: &Primitives) -> PrimitiveIds {
-        let (triangles, spheres, planes) = (
+        let (triangles, spheres, planes, disks) = (
             primitives.triangles.len() as u32,
             primitives.spheres.len() as u32,
             primitives.planes.len() as u32,
+            primitives.disks.len() as u32,
         );
-        let mut next = triangles + spheres + planes;
+        let mut next = triangles + spheres + planes + disks;
         let mut instance_starts = vec![next];
         for instance in &primitives.instances {
             next += primitives.mesh_len(instance.mesh) as u32;
@@ -48,6 +51,7 @@ impl PrimitiveIds {
             triangles,
             spheres,
             planes,
+            disks,
             instance_starts,
         }
     }
@@ -69,6 +73,10 @@ impl PrimitiveIds {
         self.triangles + self.spheres + i as u32
     }
 
+    pub fn disk(&self, i: usize) -> u32 {
+        self.triangles + self.spheres + self.planes + i as u32
+    }
+
     pub fn instance_triangle(&self, instance: usize, triangle: usize) -> u32 {
         self.instance_starts[instance] + triangle as u32
     }
@@ -77,12 +85,15 @@ impl PrimitiveIds {
     pub fn decode(&self, id: u32) -> Option<PrimitiveRef> {
         let spheres = self.triangles + self.spheres;
         let planes = spheres + self.planes;
+        let disks = planes + self.disks;
         Some(if id < self.triangles {
             PrimitiveRef::Triangle(id as usize)
         } else if id < spheres {
             PrimitiveRef::Sphere((id - self.triangles) as usize)
         } else if id < planes {
             PrimitiveRef::Plane((id - spheres) as usize)
+        } else if id < disks {
+            PrimitiveRef::Disk((id - planes) as usize)
         } else {
             if id as usize >= self.count() {
                 return None;

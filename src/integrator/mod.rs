@@ -250,10 +250,11 @@ impl Renderer {
                 settings.seed
             ),
             format!(
-                "geometry: {} triangles, {} spheres, {} planes; {} emissive shapes; uvs {}, shading normals {}",
+                "geometry: {} triangles, {} spheres, {} planes, {} disks; {} emissive shapes; uvs {}, shading normals {}",
                 geometry.triangles.len(),
                 geometry.spheres.len(),
                 geometry.planes.len(),
+                geometry.disks.len(),
                 geometry.emissive_shapes.len(),
                 if geometry.triangle_uvs.is_empty() {
                     "not kept"

@@ -33,7 +33,9 @@ use crate::material::{Color, GlossyCoating, Material, MaterialTable, PaintLobe};
 use crate::sampling::{PixelSampler, SamplerKind};
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::shape::geometry::GeometryNeeds;
-use crate::shape::{AreaEmitter, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh};
+use crate::shape::{
+    AreaEmitter, Disk, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh,
+};
 
 /// Samples per pixel and bounces when neither the scene nor the command line says.
 pub const DEFAULT_SAMPLES_PER_PIXEL: u32 = 16;
@@ -190,6 +192,12 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                 Sphere {
                     object_to_world: to_world,
                     radius: *radius,
+                },
+                material,
+            )),
+            Geometry::Disk => world.spawn((
+                Disk {
+                    object_to_world: to_world,
                 },
                 material,
             )),

@@ -471,6 +471,8 @@ pub enum Geometry {
     },
     /// The course's infinite plane through the object-space origin.
     Plane { normal: Vec3 },
+    /// The unit disk in the object-space plane z = 0, normal +z (Mitsuba's `disk`).
+    Disk,
     /// A placed copy of `SceneDesc::shape_groups[group]`, each member with its own material; its
     /// meshes are shared (built once, placed by a second BVH level), not copied.
     Instance { group: usize },
@@ -505,6 +507,10 @@ impl ShapeDesc {
                 let m = to_world.matrix3;
                 let scale = (m.x_axis.length() * m.y_axis.length() * m.z_axis.length()).cbrt();
                 4.0 * PI * (radius * scale).powi(2)
+            }
+            Geometry::Disk => {
+                let m = to_world.matrix3;
+                PI * m.x_axis.cross(m.y_axis).length()
             }
             Geometry::Plane { .. } | Geometry::Instance { .. } => f32::INFINITY,
         }

@@ -9,12 +9,12 @@ use bevy_ecs::prelude::*;
 use glam::{Affine3A, Mat3, Mat3A, Vec2, Vec3};
 
 use super::{
-    AreaEmitter, FLAT_NORMAL_COS, InstancedMesh, Plane, Sphere, SurfaceMaterial, TriangleMesh,
-    normals_follow_faces,
+    AreaEmitter, Disk, FLAT_NORMAL_COS, InstancedMesh, Plane, Sphere, SurfaceMaterial,
+    TriangleMesh, normals_follow_faces,
 };
 use crate::accel::{
-    Accel, MeshInstance, PassThrough, PlaneInstance, PrimitiveIds, PrimitiveRef, Primitives,
-    SphereInstance,
+    Accel, DiskInstance, MeshInstance, PassThrough, PlaneInstance, PrimitiveIds, PrimitiveRef,
+    Primitives, SphereInstance,
 };
 use crate::material::MaterialTable;
 
@@ -48,6 +48,7 @@ pub struct SceneGeometry {
     pub uvs: bool,
     pub spheres: Vec<SphereShape>,
     pub planes: Vec<Plane>,
+    pub disks: Vec<DiskShape>,
     /// Shared meshes (object-space triangles) and their placed copies.
     pub meshes: Vec<Vec<[Vec3; 3]>>,
     pub instances: Vec<MeshInstance>,
@@ -90,6 +91,44 @@ pub struct SphereShape {
     pub uv: bool,
 }
 
+/// A disk as the shade stage and the lights use it: the unit disk of its object space placed by
+/// `object_to_world`, whose centre is `M·0` and whose points are `M·0 + a Mx + b My` for
+/// `a² + b² <= 1` (`Mx`, `My` the map's first two columns).
+#[derive(Clone, Copy, Debug)]
+pub struct DiskShape {
+    pub object_to_world: Affine3A,
+    pub world_to_object: Affine3A,
+    /// The unit normal `Mx × My` normalised: the side a tessellated disk's winding faces (and
+    /// Mitsuba's `m_frame.n`), so a mirroring map turns it as it turns the triangles.
+    pub normal: Vec3,
+    /// `π |Mx × My|`: the ellipse's area.
+    pub area: f32,
+    /// Whether a hit's uv is read (as [`SphereShape::uv`]).
+    pub uv: bool,
+}
+
+impl DiskShape {
+    pub fn new(object_to_world: Affine3A, uv: bool) -> DiskShape {
+        let m = object_to_world.matrix3;
+        let across = Vec3::from(m.x_axis.cross(m.y_axis));
+        DiskShape {
+            object_to_world,
+            world_to_object: object_to_world.inverse(),
+            normal: across.normalize_or(Vec3::Z),
+            area: std::f32::consts::PI * across.length(),
+            uv,
+        }
+    }
+
+    /// The four corners of the square `[-1, 1]² × {0}` around the disk, in world space: their
+    /// hull holds the disk.
+    fn corners(&self) -> impl Iterator<Item = Vec3> + '_ {
+        [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+            .into_iter()
+            .map(|(x, y)| self.object_to_world.transform_point3(Vec3::new(x, y, 0.0)))
+    }
+}
+
 /// What the world builder asks of the flattening.
 #[derive(Resource, Clone, Copy, Debug)]
 pub struct GeometryNeeds {
@@ -102,7 +141,7 @@ type ShapeQuery<'a, T> = (&'a T, &'a SurfaceMaterial, Option<&'a AreaEmitter>);
 pub fn build_scene_geometry(
     meshes: Query<ShapeQuery<TriangleMesh>>,
     spheres: Query<ShapeQuery<Sphere>>,
-    planes: Query<ShapeQuery<Plane>>,
+    (planes, disks): (Query<ShapeQuery<Plane>>, Query<ShapeQuery<Disk>>),
     instanced: Query<(&InstancedMesh, &SurfaceMaterial)>,
     needs: Res<GeometryNeeds>,
     materials: Res<MaterialTable>,
@@ -120,7 +159,7 @@ pub fn build_scene_geometry(
     let mut triangle_uvs = Vec::new();
     let mut material = Vec::new();
     let mut emitter = Vec::new();
-    // Each emitter's primitives (as ranges of triangle or sphere indices, turned into ids once
+    // Each emitter's primitives (as ranges of triangle, sphere or disk indices, turned into ids once
     // all are counted) and radiance.
     let mut emitters: Vec<(EmitterPrimitives, Vec3)> = Vec::new();
 
@@ -178,8 +217,18 @@ pub fn build_scene_geometry(
         material.push(surface.0);
         plane_shapes.push(*plane);
     }
+    let mut disk_shapes = Vec::new();
+    for (disk, surface, light) in &disks {
+        emitter.push(next_emitter(
+            EmitterPrimitives::Disk(disk_shapes.len()),
+            light,
+        ));
+        material.push(surface.0);
+        let uv = needs.uvs && materials.fixed_bsdf(surface.0).is_none();
+        disk_shapes.push(DiskShape::new(disk.object_to_world, uv));
+    }
 
-    // Instance triangles take the ids after the planes, instance by instance (`PrimitiveIds`).
+    // Instance triangles take the ids after the planes and disks, instance by instance (`PrimitiveIds`).
     // Instanced meshes emit no light (loaders place emitters as shapes of their own).
     let any_instance_normals = instanced.iter().any(|(m, _)| m.normals.is_some());
     let mut meshes: Vec<Vec<[Vec3; 3]>> = Vec::new();
@@ -229,8 +278,11 @@ pub fn build_scene_geometry(
             .flatten()
             .map(move |p| to_world.transform_point3(*p))
     });
+    let disk_points = disk_shapes.iter().flat_map(DiskShape::corners);
     let (bounds_centre, bounds_radius) = bounding_sphere(
-        triangles.iter().flatten().copied().chain(instanced_points),
+        (triangles.iter().flatten().copied())
+            .chain(instanced_points)
+            .chain(disk_points),
         &sphere_shapes,
     );
 
@@ -250,6 +302,11 @@ pub fn build_scene_geometry(
                 normal: p.normal,
             })
             .collect(),
+        disks: (disk_shapes.iter())
+            .map(|d| DiskInstance {
+                object_to_world: d.object_to_world,
+            })
+            .collect(),
         meshes,
         instances,
     };
@@ -259,6 +316,7 @@ pub fn build_scene_geometry(
             primitives: match primitives {
                 EmitterPrimitives::Triangles(range) => range.map(|i| ids.triangle(i)).collect(),
                 EmitterPrimitives::Sphere(i) => vec![ids.sphere(i)],
+                EmitterPrimitives::Disk(i) => vec![ids.disk(i)],
             },
             radiance,
         })
@@ -277,6 +335,7 @@ pub fn build_scene_geometry(
         uvs: needs.uvs,
         spheres: sphere_shapes,
         planes: plane_shapes,
+        disks: disk_shapes,
         meshes: primitives.meshes,
         instances: primitives.instances,
         mesh_normals,
@@ -302,7 +361,7 @@ impl SceneGeometry {
                 let t = self.meshes.get(instance.mesh as usize)?.get(triangle)?;
                 Some(t.map(|p| instance.object_to_world.transform_point3(p)))
             }
-            PrimitiveRef::Sphere(_) | PrimitiveRef::Plane(_) => None,
+            PrimitiveRef::Sphere(_) | PrimitiveRef::Plane(_) | PrimitiveRef::Disk(_) => None,
         }
     }
 }
@@ -327,10 +386,11 @@ fn vertex_normals(vertices: [Vec3; 3], normals: Option<[Vec3; 3]>) -> [Vec3; 3] 
 enum EmitterPrimitives {
     Triangles(std::ops::Range<usize>),
     Sphere(usize),
+    Disk(usize),
 }
 
-/// A sphere around every bounded primitive (planes are unbounded and left out): the triangles'
-/// world-space vertices and the spheres.
+/// A sphere around every bounded primitive (planes are unbounded and left out): the world-space
+/// points given (triangles' vertices, disks' corners) and the spheres.
 fn bounding_sphere(vertices: impl Iterator<Item = Vec3>, spheres: &[SphereShape]) -> (Vec3, f32) {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);

@@ -62,6 +62,12 @@ pub struct Sphere {
     pub radius: f32,
 }
 
+/// The unit disk in z = 0 of its object space (normal +z), placed by `object_to_world`.
+#[derive(Component, Clone, Copy, Debug)]
+pub struct Disk {
+    pub object_to_world: Affine3A,
+}
+
 /// The course's infinite plane.
 #[derive(Component, Clone, Copy, Debug)]
 pub struct Plane {

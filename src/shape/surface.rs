@@ -42,6 +42,7 @@ impl SceneGeometry {
                 interpolate(face_normal(&p), normals, uvs, hit.u, hit.v)
             }
             PrimitiveRef::Sphere(i) => self.sphere_surface(i, position),
+            PrimitiveRef::Disk(i) => self.disk_surface(i, position),
             PrimitiveRef::Plane(i) => {
                 let plane = &self.planes[i];
                 let n = plane.normal;
@@ -98,6 +99,21 @@ impl SceneGeometry {
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
         let uv = Vec2::new(phi / (2.0 * PI), dir.z.clamp(-1.0, 1.0).acos() / PI);
         (n, n, uv)
+    }
+
+    /// A disk's normal, and its uv as Mitsuba 3's (`disk.cpp`, `compute_surface_interaction`):
+    /// u = r, v = φ / 2π with φ in [0, 2π), of the object-space point.
+    fn disk_surface(&self, i: usize, position: Vec3) -> (Vec3, Vec3, Vec2) {
+        let disk = &self.disks[i];
+        let n = disk.normal;
+        if !disk.uv {
+            return (n, n, Vec2::ZERO);
+        }
+        let local = disk.world_to_object.transform_point3(position);
+        let phi = local.y.atan2(local.x);
+        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
+        let r = Vec2::new(local.x, local.y).length();
+        (n, n, Vec2::new(r, phi / (2.0 * PI)))
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::f32::consts::PI;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3A};
 
 use super::geometry::SceneGeometry;
 use crate::accel::PrimitiveRef;
@@ -40,6 +40,23 @@ impl SceneGeometry {
                 let (dpdu, dpdv) = sphere_derivatives(local);
                 let to_world = sphere.object_to_world.matrix3;
                 (to_world * dpdu, to_world * dpdv)
+            }
+            // With u = r, v = φ / 2π of the object-space point (r cos φ, r sin φ, 0):
+            // dp/du = M (cos φ, sin φ, 0) and dp/dv = 2π r M (-sin φ, cos φ, 0); at the centre
+            // (r = 0) φ is undefined and the map's axes stand in.
+            PrimitiveRef::Disk(i) => {
+                let disk = &self.disks[i];
+                let local = disk.world_to_object.transform_point3(position);
+                let r = Vec2::new(local.x, local.y).length();
+                let m = disk.object_to_world.matrix3;
+                if r > 0.0 {
+                    let (cos, sin) = (local.x / r, local.y / r);
+                    let dpdu = m * Vec3A::new(cos, sin, 0.0);
+                    let dpdv = m * Vec3A::new(-sin, cos, 0.0) * (2.0 * PI * r);
+                    (dpdu.into(), dpdv.into())
+                } else {
+                    (m.x_axis.into(), m.y_axis.into())
+                }
             }
             // The plane's uvs are the point's coordinates along the pair `surface_point` uses.
             PrimitiveRef::Plane(i) => self.planes[i].normal.any_orthonormal_pair(),

@@ -222,8 +222,9 @@ impl Parser {
                 );
                 sphere
             }
-            // `Shape` makes no instances (`ObjectInstance` does).
-            instance @ Geometry::Instance { .. } => instance,
+            // `Shape` makes no instances (`ObjectInstance` does), and no analytic disks (its
+            // disks are tessellated: `quadrics`).
+            other @ (Geometry::Instance { .. } | Geometry::Disk) => other,
         }
     }
 }

@@ -65,6 +65,8 @@ pub fn shape(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
             return finish(cx, object, Geometry::Sphere { radius }, to_world);
         }
         "rectangle" => rectangle(),
+        // Analytic, as Mitsuba's; flipped, the tessellation (its triangles turn over).
+        "disk" if !flip => return finish(cx, object, Geometry::Disk, to_world),
         "disk" => disk(),
         "cube" => cube(),
         "cylinder" => {
