@@ -29,11 +29,16 @@ pub(crate) const PACKET_SIZE: usize = 8;
 /// eight rays whatever the number of live lanes.
 pub(crate) const MIN_PACKET: usize = 4;
 
-/// How many rays from the first on (at most [`PACKET_SIZE`]) can share a packet: each with
+/// How many rays from the first on (at most [`PACKET_SIZE`]; or 0 if fewer than [`MIN_PACKET`]) can share a packet: each with
 /// a valid range `t_min < t_max` (an empty slot ends the run), an origin bit-identical to the
 /// first's, and a direction that [`Ray::new`] accepts with the first's signs (the sign bits,
 /// so that `-0` and `+0` enter their slabs from the same side, as in the single-ray test).
+/// Incoherent rays (the path tracer's bounces) are told apart by one comparison first: the ray
+/// `MIN_PACKET - 1` on has another origin (the run is then too short to count).
 pub(crate) fn coherent_run(origins: &[Vec3], dirs: &[Vec3], t_min: f32, t_maxs: &[f32]) -> usize {
+    if origins.get(MIN_PACKET - 1) != Some(&origins[0]) {
+        return 0;
+    }
     let bits = |v: Vec3| v.to_array().map(f32::to_bits);
     let origin = bits(origins[0]);
     let octant = Vec3A::from(dirs[0]).is_negative_bitmask();
@@ -224,7 +229,7 @@ mod tests {
         assert!(full * 8 > camera / 2, "{full} full packets");
         assert_eq!(
             coherent_run(&origins[camera..], &dirs[camera..], 0.0, &t_maxs[camera..]),
-            1
+            0
         );
         let mut hits = vec![None; origins.len()];
         accel.closest_hits(&origins, &dirs, 0.0, &t_maxs, &mut hits);
