@@ -12,6 +12,8 @@ use rayon::prelude::*;
 
 use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
 use super::memory::{on_huge_pages, prefetch};
+#[cfg(target_arch = "x86_64")]
+use super::packet::{PACKET_SIZE, RayPacket};
 use super::sphere::{Sphere4, sphere_bounds};
 use super::triangle::{LaneHit, Triangle4, triangle_bounds};
 use super::{BuildStats, Hit, SphereInstance};
@@ -137,6 +139,65 @@ impl Blas {
                         t_max,
                         found,
                     )
+                }
+            },
+            #[inline(always)]
+            |payload| {
+                if payload & SPHERE_LEAF == 0 {
+                    let start = (payload >> COUNT_BITS) as usize;
+                    prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
+                }
+            },
+        )
+    }
+}
+
+impl Blas {
+    /// [`Blas::find`] (closest hits) for the rays of `packet` set in `active`, walking the
+    /// tree together ([`Bvh::traverse_packet`]); ray `lane`'s range ends at `t_max[lane]` and
+    /// its hit goes to `found[lane]`. Each leaf's packets are tested ray by ray, as
+    /// [`Blas::find`] tests them.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn find_packet(
+        &self,
+        packet: &RayPacket,
+        active: u32,
+        t_min: f32,
+        t_max: &mut [f32; PACKET_SIZE],
+        found: &mut [Option<Hit>; PACKET_SIZE],
+    ) {
+        self.bvh.traverse_packet(
+            packet,
+            active,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |payload, mut rays, t_max| {
+                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
+                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+                let o = &packet.origin4;
+                while rays != 0 {
+                    let lane = rays.trailing_zeros() as usize;
+                    rays &= rays - 1;
+                    let d = &packet.dir4(lane);
+                    if payload & SPHERE_LEAF == 0 {
+                        test_run::<false, _>(
+                            &self.packets[run.clone()],
+                            |packet, t_max| packet.intersect::<false>(o, d, t_min, t_max),
+                            |packet, lane| packet.ids[lane],
+                            &mut t_max[lane],
+                            &mut found[lane],
+                        );
+                    } else {
+                        test_run::<false, _>(
+                            &self.spheres[run.clone()],
+                            |packet, t_max| packet.intersect::<false>(o, d, t_min, t_max),
+                            |packet, lane| packet.ids[lane],
+                            &mut t_max[lane],
+                            &mut found[lane],
+                        );
+                    }
                 }
             },
             #[inline(always)]

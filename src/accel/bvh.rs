@@ -15,6 +15,8 @@ use rayon::prelude::*;
 
 use super::aabb::Aabb;
 use super::memory::{on_huge_pages, prefetch};
+#[cfg(target_arch = "x86_64")]
+use super::packet::{PACKET_SIZE, RayPacket};
 
 /// Number of SAH bins per axis; Wald 2007 finds 16 to lose almost nothing against a full sweep.
 const BINS: usize = 16;
@@ -37,7 +39,7 @@ const PARALLEL_THRESHOLD: usize = 4096;
 const PARALLEL_FOLD_THRESHOLD: usize = 1 << 16;
 /// pbrt-v4's `1 + 2γ₃` (§6.8.2): widens the slab test's far distance to cover the rounding of
 /// `(bound - o) * inv_dir`, so a box is never missed by a ray that grazes it.
-const SLAB_ROBUSTNESS: f32 =
+pub(crate) const SLAB_ROBUSTNESS: f32 =
     1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 /// Cache lines per node.
 const NODE_LINES: usize = std::mem::size_of::<Node>() / 64;
@@ -373,6 +375,110 @@ impl Bvh {
                 let (child, near) = unsafe { stack.get_unchecked(depth).assume_init() };
                 if near <= *t_max {
                     current = child;
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// A stack entry of [`Bvh::traverse_packet`]: a child word, the rays of the packet that
+/// entered it and their entry distances.
+#[cfg(target_arch = "x86_64")]
+type PacketEntry = (u32, u32, std::arch::x86_64::__m256);
+
+impl Bvh {
+    /// [`Bvh::traverse`] (nearest first) for the rays of `packet` set in `active`, together:
+    /// each node is fetched once and its boxes tested against all of them
+    /// ([`RayPacket::hit_boxes`]); a child is visited with the rays that entered it, nearest
+    /// first by the entry distance of the first of those rays, and skipped when popped once
+    /// none of them enters it before its `t_max`. `leaf(payload, rays, t_max)` is called on
+    /// each leaf with the mask of rays that reach it; it may shrink their `t_max`. Every ray
+    /// reaches every leaf it would reach alone with the final `t_max`, so the closest hit is
+    /// the same (but for ties between leaves at the same `t`, found in another order).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn traverse_packet<F, P>(
+        &self,
+        packet: &RayPacket,
+        active: u32,
+        t_min: f32,
+        t_max: &mut [f32; PACKET_SIZE],
+        mut leaf: F,
+        prefetch_leaf: P,
+    ) where
+        F: FnMut(u32, u32, &mut [f32; PACKET_SIZE]),
+        P: Fn(u32),
+    {
+        use std::arch::x86_64::*;
+        let Some((mut current, _)) = self.root else {
+            return;
+        };
+        let mut rays = active;
+        // SAFETY (every intrinsic below): `RayPacket`'s module documentation.
+        let t_min8 = unsafe { _mm256_set1_ps(t_min) };
+        let mut stack = [const { MaybeUninit::<PacketEntry>::uninit() }; STACK_SIZE];
+        let mut depth = 0;
+        loop {
+            if current & LEAF == 0 {
+                // SAFETY: as in `traverse`.
+                let node = unsafe { self.nodes.get_unchecked(current as usize) };
+                let t_max8 = unsafe { _mm256_loadu_ps(t_max.as_ptr()) };
+                let boxes = packet.hit_boxes(&node.bounds, t_min8, t_max8);
+                let first = rays.trailing_zeros() as usize;
+                // (child word, rays, their entry distances, the first active ray's)
+                let mut entered = [(0, 0, t_min8, 0.0); 4];
+                let mut count = 0;
+                for (lane, &(near, mask)) in boxes.iter().enumerate() {
+                    let mask = mask & rays;
+                    if mask != 0 {
+                        let mut nears = [0.0f32; PACKET_SIZE];
+                        unsafe { _mm256_storeu_ps(nears.as_mut_ptr(), near) };
+                        entered[count] = (node.child[lane], mask, near, nears[first]);
+                        count += 1;
+                    }
+                }
+                if count > 0 {
+                    // Insertion sort, farthest first; all but the nearest wait on the stack.
+                    for k in 1..count {
+                        let item = entered[k];
+                        let mut i = k;
+                        while i > 0 && entered[i - 1].3 < item.3 {
+                            entered[i] = entered[i - 1];
+                            i -= 1;
+                        }
+                        entered[i] = item;
+                    }
+                    for &(child, mask, near, _) in &entered[..count - 1] {
+                        if child & LEAF == 0 {
+                            prefetch(self.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
+                        } else {
+                            prefetch_leaf(child & !LEAF);
+                        }
+                        // SAFETY: as in `traverse`'s `push`.
+                        debug_assert!(depth < STACK_SIZE);
+                        unsafe { stack.get_unchecked_mut(depth).write((child, mask, near)) };
+                        depth += 1;
+                    }
+                    (current, rays) = (entered[count - 1].0, entered[count - 1].1);
+                    continue;
+                }
+            } else {
+                leaf(current & !LEAF, rays, t_max);
+            }
+            // Pop the next child that some of its rays enter before their closest hit so far.
+            loop {
+                if depth == 0 {
+                    return;
+                }
+                depth -= 1;
+                // SAFETY: as in `traverse`.
+                let (child, mask, near) = unsafe { stack.get_unchecked(depth).assume_init() };
+                let t_max8 = unsafe { _mm256_loadu_ps(t_max.as_ptr()) };
+                let before = unsafe { _mm256_cmp_ps::<_CMP_LE_OQ>(near, t_max8) };
+                let mask = mask & unsafe { _mm256_movemask_ps(before) } as u32;
+                if mask != 0 {
+                    (current, rays) = (child, mask);
                     break;
                 }
             }

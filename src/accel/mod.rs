@@ -20,6 +20,7 @@ mod flat;
 mod instances;
 mod lanes;
 mod memory;
+mod packet;
 mod pass_through;
 mod plane;
 mod primitive;
@@ -326,6 +327,15 @@ impl Accel {
         if let Some(flat) = &self.flat {
             return flat.closest_hits(&self.planes, (origins, dirs, t_maxs), t_min, hits);
         }
+        #[cfg(target_arch = "x86_64")]
+        if self.planes.is_empty()
+            && std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("bmi1")
+            && std::arch::is_x86_feature_detected!("bmi2")
+        {
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe { self.closest_hits_in_packets(origins, dirs, t_min, t_maxs, hits) };
+        }
         vex::run(
             #[inline(always)]
             || {
@@ -335,6 +345,47 @@ impl Accel {
                 }
             },
         )
+    }
+
+    /// [`Accel::closest_hits_chunk`] with runs of coherent rays ([`packet::coherent_run`]:
+    /// a camera's) traced through the world tree as packets, the others one by one. Only for
+    /// scenes without planes, which [`Accel::find_closest`] tests before the tree.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2")]
+    fn closest_hits_in_packets(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        t_min: f32,
+        t_maxs: &[f32],
+        hits: &mut [Option<Hit>],
+    ) {
+        let n = (hits.len().min(origins.len()))
+            .min(dirs.len())
+            .min(t_maxs.len());
+        let mut i = 0;
+        while i < n {
+            let run = packet::coherent_run(&origins[i..n], &dirs[i..n], t_min, &t_maxs[i..n]);
+            if run < packet::MIN_PACKET {
+                for k in i..i + run.max(1) {
+                    hits[k] = self.find_closest(origins[k], dirs[k], t_min, t_maxs[k]);
+                }
+                i += run.max(1);
+                continue;
+            }
+            let packet = packet::RayPacket::new(origins[i], &dirs[i..i + run]);
+            let mut t_max = [t_min; packet::PACKET_SIZE];
+            t_max[..run].copy_from_slice(&t_maxs[i..i + run]);
+            let mut found = [None; packet::PACKET_SIZE];
+            self.world
+                .find_packet(&packet, (1 << run) - 1, t_min, &mut t_max, &mut found);
+            for lane in 0..run {
+                let (o, d) = (packet.origin, packet.dirs[lane]);
+                (self.instances).find::<false>(o, d, t_min, &mut t_max[lane], &mut found[lane]);
+                hits[i + lane] = found[lane];
+            }
+            i += run;
+        }
     }
 
     /// occluded[i] = any_hit(...), or `any_opaque_hit` past the primitives of `pass_through`;
