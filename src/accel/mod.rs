@@ -329,6 +329,7 @@ impl Accel {
         }
         #[cfg(target_arch = "x86_64")]
         if self.planes.is_empty()
+            && self.disks.is_empty()
             && std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("bmi1")
             && std::arch::is_x86_feature_detected!("bmi2")
@@ -349,7 +350,7 @@ impl Accel {
 
     /// [`Accel::closest_hits_chunk`] with runs of coherent rays ([`packet::coherent_run`]:
     /// a camera's) traced through the world tree as packets, the others one by one. Only for
-    /// scenes without planes, which [`Accel::find_closest`] tests before the tree.
+    /// scenes without planes and disks, which [`Accel::find_closest`] tests before the tree.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,bmi1,bmi2")]
     fn closest_hits_in_packets(

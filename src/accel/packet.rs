@@ -147,11 +147,12 @@ impl RayPacket {
 mod tests {
     use glam::Vec3;
 
-    use super::super::{Accel, Primitives, SphereInstance};
+    use super::super::{Accel, DiskInstance, Primitives, SphereInstance};
     use super::*;
 
-    /// A bumpy sheet of triangles with spheres above it: enough primitives for the tree.
-    fn scene() -> Accel {
+    /// A bumpy sheet of triangles with spheres above it (enough primitives for the tree), and
+    /// `disks`.
+    fn scene(disks: Vec<DiskInstance>) -> Accel {
         let height = |x: usize, y: usize| ((x * 7 + y * 13) % 5) as f32 * 0.05;
         let vertex = |x: usize, y: usize| {
             Vec3::new(x as f32 * 0.1 - 2.0, y as f32 * 0.1 - 2.0, height(x, y))
@@ -181,6 +182,7 @@ mod tests {
         Accel::build(&Primitives {
             triangles,
             spheres,
+            disks,
             ..Default::default()
         })
     }
@@ -188,11 +190,25 @@ mod tests {
     /// Camera-like batches (one origin, a grid of directions in pixel order, some of them on
     /// the sheet's vertices and edges, empty slots between) and random ones (every ray its own
     /// origin) give through the batch query the hits of single queries, bit for bit but for
-    /// ties (another primitive at the same `t` but for rounding, on a shared edge); the camera's rays are coherent
-    /// enough to form full packets.
+    /// ties (another primitive at the same `t` but for rounding, on a shared edge); the
+    /// camera's rays are coherent enough to form full packets.
     #[test]
-    fn packets_match_single_queries_bit_for_bit() {
-        let accel = scene();
+    fn packets_match_single_queries() {
+        // A disk of radius 0.5 over the sheet's middle: disks, like planes, are tested beside
+        // the tree, so the packets must leave a scene with them to the single queries.
+        let disk = DiskInstance {
+            object_to_world: glam::Affine3A::from_scale_rotation_translation(
+                Vec3::splat(0.5),
+                glam::Quat::IDENTITY,
+                Vec3::new(0.0, 0.0, 0.8),
+            ),
+        };
+        for accel in [scene(Vec::new()), scene(vec![disk])] {
+            check_against_single_queries(&accel);
+        }
+    }
+
+    fn check_against_single_queries(accel: &Accel) {
         let eye = Vec3::new(0.31, -0.23, 3.07);
         let (width, height) = (64, 48);
         let mut origins = Vec::new();
