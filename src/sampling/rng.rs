@@ -66,10 +66,14 @@ impl PathRng {
     }
 
     /// A uniform float in [0, 1): 24 random bits times 2^-24, so 1 is never returned.
+    #[inline(always)]
     pub fn next_f32(&mut self) -> f32 {
         unit_f32(self.0.next_u32())
     }
 
+    /// Two uniform floats in [0, 1), x first. Inlined: out of line, its calls from the
+    /// shading stage cost Cornell's render 47 M instructions (4 spp) at stop 22's merge.
+    #[inline(always)]
     pub fn next_2d(&mut self) -> Vec2 {
         let x = self.next_f32();
         Vec2::new(x, self.next_f32())
