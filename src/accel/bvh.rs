@@ -344,16 +344,7 @@ impl Bvh {
                         4
                     };
                     if nearest_first {
-                        // Insertion sort, farthest first.
-                        for k in 1..count {
-                            let item = entered[k];
-                            let mut i = k;
-                            while i > 0 && entered[i - 1].1 < item.1 {
-                                entered[i] = entered[i - 1];
-                                i -= 1;
-                            }
-                            entered[i] = item;
-                        }
+                        sort_farthest_first(&mut entered[..count], |item| item.1);
                     }
                     for &item in &entered[..count - 1] {
                         push(&mut stack, &mut depth, item);
@@ -439,16 +430,8 @@ impl Bvh {
                     }
                 }
                 if count > 0 {
-                    // Insertion sort, farthest first; all but the nearest wait on the stack.
-                    for k in 1..count {
-                        let item = entered[k];
-                        let mut i = k;
-                        while i > 0 && entered[i - 1].3 < item.3 {
-                            entered[i] = entered[i - 1];
-                            i -= 1;
-                        }
-                        entered[i] = item;
-                    }
+                    // All but the nearest wait on the stack.
+                    sort_farthest_first(&mut entered[..count], |item| item.3);
                     for &(child, mask, near, _) in &entered[..count - 1] {
                         if child & LEAF == 0 {
                             prefetch(self.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
@@ -733,6 +716,21 @@ fn collapse(
             }
             index as u32
         }
+    }
+}
+
+/// Insertion sort by `key`, largest first: a node's entered children (at most four), so that
+/// the nearest is taken now and the others are pushed farthest first.
+#[inline(always)]
+fn sort_farthest_first<T: Copy>(items: &mut [T], key: impl Fn(&T) -> f32) {
+    for k in 1..items.len() {
+        let item = items[k];
+        let mut i = k;
+        while i > 0 && key(&items[i - 1]) < key(&item) {
+            items[i] = items[i - 1];
+            i -= 1;
+        }
+        items[i] = item;
     }
 }
 

@@ -141,6 +141,29 @@ pub struct Accel {
 /// Rays per rayon task in the batch entry points.
 const BATCH_CHUNK: usize = 256;
 
+/// Keeps in `closest` the nearest hit below `t_max` of the primitives tested beside the trees
+/// (planes, disks), shrinking `t_max` to it: `hit` gives a primitive's `t` within
+/// (t_min, t_max) and its id, or `None`.
+#[inline(always)]
+fn keep_nearest<P>(
+    prims: &[P],
+    t_max: &mut f32,
+    closest: &mut Option<Hit>,
+    hit: impl Fn(&P, f32) -> Option<(f32, u32)>,
+) {
+    for prim in prims {
+        if let Some((t, id)) = hit(prim, *t_max) {
+            *t_max = t;
+            *closest = Some(Hit {
+                t,
+                prim: id,
+                u: 0.0,
+                v: 0.0,
+            });
+        }
+    }
+}
+
 impl Accel {
     /// Builds the trees (each in parallel for large subtrees, the mesh trees in parallel with
     /// each other) and prepares the planes.
@@ -240,28 +263,15 @@ impl Accel {
         let ray = Ray::new(origin.into(), dir.into())?;
         let mut t_max = t_max;
         let mut closest = None;
-        for plane in &self.planes {
-            if let Some(t) = plane.intersect(ray.origin, ray.dir, t_min, t_max) {
-                t_max = t;
-                closest = Some(Hit {
-                    t,
-                    prim: plane.id,
-                    u: 0.0,
-                    v: 0.0,
-                });
-            }
-        }
-        for disk in &self.disks {
-            if let Some(t) = disk.intersect(ray.origin, ray.dir, t_min, t_max) {
-                t_max = t;
-                closest = Some(Hit {
-                    t,
-                    prim: disk.id,
-                    u: 0.0,
-                    v: 0.0,
-                });
-            }
-        }
+        keep_nearest(&self.planes, &mut t_max, &mut closest, |plane, t_max| {
+            Some((
+                plane.intersect(ray.origin, ray.dir, t_min, t_max)?,
+                plane.id,
+            ))
+        });
+        keep_nearest(&self.disks, &mut t_max, &mut closest, |disk, t_max| {
+            Some((disk.intersect(ray.origin, ray.dir, t_min, t_max)?, disk.id))
+        });
         self.world
             .find::<false>(&ray, t_min, &mut t_max, &mut closest);
         self.instances
