@@ -30,7 +30,7 @@ pub(crate) mod vex;
 
 use std::time::{Duration, Instant};
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use blas::Blas;
@@ -263,20 +263,32 @@ impl Accel {
         let ray = Ray::new(origin.into(), dir.into())?;
         let mut t_max = t_max;
         let mut closest = None;
-        keep_nearest(&self.planes, &mut t_max, &mut closest, |plane, t_max| {
-            Some((
-                plane.intersect(ray.origin, ray.dir, t_min, t_max)?,
-                plane.id,
-            ))
-        });
-        keep_nearest(&self.disks, &mut t_max, &mut closest, |disk, t_max| {
-            Some((disk.intersect(ray.origin, ray.dir, t_min, t_max)?, disk.id))
-        });
+        self.find_beside_trees(ray.origin, ray.dir, t_min, &mut t_max, &mut closest);
         self.world
             .find::<false>(&ray, t_min, &mut t_max, &mut closest);
         self.instances
             .find::<false>(ray.origin, ray.dir, t_min, &mut t_max, &mut closest);
         closest
+    }
+
+    /// The planes and disks, tested beside the trees and before them: their nearest hit below
+    /// `t_max` goes into `closest` and shrinks `t_max`, so that a ground plane culls the tree
+    /// beneath it.
+    #[inline(always)]
+    fn find_beside_trees(
+        &self,
+        o: Vec3A,
+        d: Vec3A,
+        t_min: f32,
+        t_max: &mut f32,
+        closest: &mut Option<Hit>,
+    ) {
+        keep_nearest(&self.planes, t_max, closest, |plane, t_max| {
+            Some((plane.intersect(o, d, t_min, t_max)?, plane.id))
+        });
+        keep_nearest(&self.disks, t_max, closest, |disk, t_max| {
+            Some((disk.intersect(o, d, t_min, t_max)?, disk.id))
+        });
     }
 
     /// Whether anything is hit with t in (t_min, t_max): stops at the first hit found.
@@ -338,9 +350,7 @@ impl Accel {
             return flat.closest_hits(&self.planes, (origins, dirs, t_maxs), t_min, hits);
         }
         #[cfg(target_arch = "x86_64")]
-        if self.planes.is_empty()
-            && self.disks.is_empty()
-            && std::arch::is_x86_feature_detected!("avx2")
+        if std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("bmi1")
             && std::arch::is_x86_feature_detected!("bmi2")
         {
@@ -359,8 +369,8 @@ impl Accel {
     }
 
     /// [`Accel::closest_hits_chunk`] with runs of coherent rays ([`packet::coherent_run`]:
-    /// a camera's) traced through the world tree as packets, the others one by one. Only for
-    /// scenes without planes and disks, which [`Accel::find_closest`] tests before the tree.
+    /// a camera's) traced through the world tree as packets, the others one by one. Each ray
+    /// of a packet meets the planes and disks first, as in [`Accel::find_closest`].
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,bmi1,bmi2")]
     fn closest_hits_in_packets(
@@ -388,6 +398,9 @@ impl Accel {
             let mut t_max = [t_min; packet::PACKET_SIZE];
             t_max[..run].copy_from_slice(&t_maxs[i..i + run]);
             let mut found = [None; packet::PACKET_SIZE];
+            for (lane, &d) in packet.dirs[..run].iter().enumerate() {
+                self.find_beside_trees(packet.origin, d, t_min, &mut t_max[lane], &mut found[lane]);
+            }
             self.world
                 .find_packet(&packet, (1 << run) - 1, t_min, &mut t_max, &mut found);
             for lane in 0..run {

@@ -147,12 +147,12 @@ impl RayPacket {
 mod tests {
     use glam::Vec3;
 
-    use super::super::{Accel, DiskInstance, Primitives, SphereInstance};
+    use super::super::{Accel, DiskInstance, PlaneInstance, Primitives, SphereInstance};
     use super::*;
 
     /// A bumpy sheet of triangles with spheres above it (enough primitives for the tree), and
-    /// `disks`.
-    fn scene(disks: Vec<DiskInstance>) -> Accel {
+    /// `disks` and `planes`.
+    fn scene(disks: Vec<DiskInstance>, planes: Vec<PlaneInstance>) -> Accel {
         let height = |x: usize, y: usize| ((x * 7 + y * 13) % 5) as f32 * 0.05;
         let vertex = |x: usize, y: usize| {
             Vec3::new(x as f32 * 0.1 - 2.0, y as f32 * 0.1 - 2.0, height(x, y))
@@ -183,6 +183,7 @@ mod tests {
             triangles,
             spheres,
             disks,
+            planes,
             ..Default::default()
         })
     }
@@ -194,8 +195,8 @@ mod tests {
     /// camera's rays are coherent enough to form full packets.
     #[test]
     fn packets_match_single_queries() {
-        // A disk of radius 0.5 over the sheet's middle: disks, like planes, are tested beside
-        // the tree, so the packets must leave a scene with them to the single queries.
+        // A disk of radius 0.5 over the sheet's middle, and a tilted plane through the sheet:
+        // both are tested beside the tree, and each ray of a packet must meet them first.
         let disk = DiskInstance {
             object_to_world: glam::Affine3A::from_scale_rotation_translation(
                 Vec3::splat(0.5),
@@ -203,7 +204,14 @@ mod tests {
                 Vec3::new(0.0, 0.0, 0.8),
             ),
         };
-        for accel in [scene(Vec::new()), scene(vec![disk])] {
+        let plane = PlaneInstance {
+            point: Vec3::new(0.0, 0.0, 0.1),
+            normal: Vec3::new(1.0, 0.0, 2.0),
+        };
+        for accel in [
+            scene(Vec::new(), Vec::new()),
+            scene(vec![disk], vec![plane]),
+        ] {
             check_against_single_queries(&accel);
         }
     }
