@@ -7,7 +7,9 @@ Run `bash scripts/peers/setup.sh` and `cargo build --release` once, then, from t
     .venv-peers/bin/python scripts/peers/equal_time.py --scenes furnace --spp 4,16 --repeat 1
 
 For each scene, each renderer is measured against its own converged reference (foton's and
-Mitsuba's, --reference-spp, cached under target/equal-time/), so the numbers are each renderer's
+Mitsuba's, --reference-spp, cached under target/equal-time/ by scene, sample count and the scene
+file's contents; --fresh-references renders foton's anew after a change to foton that alters the
+expected image), so the numbers are each renderer's
 noise, not the small differences between their materials. relMSE = mean((a - b)^2 / (b^2 + 0.01))
 over pixels and channels, as `foton compare` computes it.
 
@@ -26,6 +28,7 @@ Writes docs/equal-time.md (or --report), one CSV per scene (configuration, secon
 """
 
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -98,11 +101,14 @@ def loglog(points, x):
 
 
 def measure(name, xml, args, cache):
-    foton_ref = cache / f"{name}-foton-ref.exr"
-    if not foton_ref.exists():
+    # Keyed by what the reference depends on besides the renderer: the sample count and the file.
+    digest = hashlib.sha256(Path(xml).read_bytes()).hexdigest()[:12]
+    key = f"{name}-{args.reference_spp}-{digest}"
+    foton_ref = cache / f"{key}-foton-ref.exr"
+    if args.fresh_references or not foton_ref.exists():
         print(f"{name}: foton reference at {args.reference_spp} spp", flush=True)
         foton_render(xml, args.reference_spp, 999, foton_ref)
-    mitsuba_ref_path = cache / f"{name}-mitsuba-ref.npy"
+    mitsuba_ref_path = cache / f"{key}-mitsuba-ref.npy"
     if mitsuba_ref_path.exists():
         mitsuba_ref = np.load(mitsuba_ref_path)
     else:
@@ -151,6 +157,11 @@ def main():
     ap.add_argument("--reference-spp", type=int, default=1024)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--report", type=Path, default=REPO / "docs/equal-time.md")
+    ap.add_argument(
+        "--fresh-references",
+        action="store_true",
+        help="render foton's references anew (after a change that alters the expected image)",
+    )
     args = ap.parse_args()
     args.spp = [int(s) for s in args.spp.split(",")]
     if not FOTON.exists():
