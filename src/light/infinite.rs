@@ -40,6 +40,11 @@ pub struct Environment {
 #[derive(Clone, Debug)]
 struct EnvironmentMap {
     image: ImageTexture,
+    /// The texels with column 0 repeated after the last column and the last row repeated
+    /// below the image ((w + 1) x (h + 1)): the lookup's right and lower neighbours, wrapped in
+    /// u and clamped in v, are then always at i + 1 and j + 1, without a branch or a second
+    /// pointer to follow.
+    padded: Box<[Vec3]>,
     /// Over the grid of texel centres, in (u - 1 / 2w mod 1, v), so that the seam in phi is a
     /// cell of its own (between the last column and the first, repeated at x = 1).
     distribution: Bilinear2D,
@@ -87,8 +92,13 @@ impl EnvironmentMap {
         let compensated = (mean - least > 0.01 * mean)
             .then(|| Bilinear2D::new(&vertex_values(mean), xs.clone(), ys.clone()))
             .filter(|table| table.integral() > 0.0);
+        let padded = (0..=h)
+            .flat_map(|j| (0..=w).map(move |i| (i % w, j.min(h - 1))))
+            .map(|(i, j)| image.texels[j * w + i])
+            .collect();
         Self {
             image: image.clone(),
+            padded,
             distribution: Bilinear2D::new(&vertex_values(0.0), xs, ys),
             compensated,
             light_to_world,
@@ -113,10 +123,19 @@ impl EnvironmentMap {
         let index = |t: f32, n: usize| ((t as i32).max(0) as usize).min(n - 1);
         let (i, j) = (index(x, w), index(y, h));
         let (fx, fy) = (x - i as f32, y - j as f32);
-        let (i1, j1) = (if i + 1 == w { 0 } else { i + 1 }, (j + 1).min(h - 1));
-        let texel = |i: usize, j: usize| self.image.texels[j * w + i];
-        (texel(i, j) * (1.0 - fx) + texel(i1, j) * fx) * (1.0 - fy)
-            + (texel(i, j1) * (1.0 - fx) + texel(i1, j1) * fx) * fy
+        let row = w + 1;
+        let texels = &self.padded[j * row + i..][..row + 2];
+        (texels[0] * (1.0 - fx) + texels[1] * fx) * (1.0 - fy)
+            + (texels[row] * (1.0 - fx) + texels[row + 1] * fx) * fy
+    }
+
+    /// Where `direction` (world space) meets the map.
+    fn point_of(&self, direction: Vec3) -> MapPoint {
+        let local = (self.world_to_light * direction).normalize_or(Vec3::Z);
+        MapPoint {
+            cos_theta: local.z,
+            uv: direction_to_uv(local),
+        }
     }
 
     /// The grid point of texture coordinates `uv`, and back.
@@ -129,6 +148,22 @@ impl EnvironmentMap {
         let half_texel = 0.5 / self.image.width as f32;
         Vec2::new(wrap(p.x + half_texel, 1.0), p.y)
     }
+}
+
+/// The radiance arriving along an escaped ray, and where its direction meets the map (none
+/// for a constant sky): what [`Environment::pdf_for_mis_of`] needs for the same direction,
+/// so that an escaped ray's rotation into the map and `direction_to_uv` are done once.
+#[derive(Clone, Copy, Debug)]
+pub struct SkyLookup {
+    pub radiance: Vec3,
+    point: Option<MapPoint>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct MapPoint {
+    /// Of the direction in the light's frame.
+    cos_theta: f32,
+    uv: Vec2,
 }
 
 impl Environment {
@@ -158,11 +193,22 @@ impl Environment {
 
     /// Radiance arriving along `-direction` (from `direction`).
     pub fn radiance(&self, direction: Vec3) -> Vec3 {
+        self.look_up(direction).radiance
+    }
+
+    /// Radiance arriving along `-direction`, with what `pdf_for_mis_of` needs.
+    pub fn look_up(&self, direction: Vec3) -> SkyLookup {
         match &self.map {
-            None => self.radiance,
+            None => SkyLookup {
+                radiance: self.radiance,
+                point: None,
+            },
             Some(map) => {
-                let uv = direction_to_uv((map.world_to_light * direction).normalize_or(Vec3::Z));
-                self.radiance * map.lookup(uv)
+                let point = map.point_of(direction);
+                SkyLookup {
+                    radiance: self.radiance * map.lookup(point.uv),
+                    point: Some(point),
+                }
             }
         }
     }
@@ -232,25 +278,39 @@ impl Environment {
 
     /// Solid-angle density of `sample_for_mis` choosing `direction`.
     pub fn pdf_for_mis(&self, direction: Vec3) -> f32 {
+        self.pdf_for_mis_of(&self.look_up_point(direction))
+    }
+
+    /// Solid-angle density of `sample_for_mis` choosing the direction of `lookup`.
+    pub fn pdf_for_mis_of(&self, lookup: &SkyLookup) -> f32 {
         if self.is_constant() {
             return 0.0;
         }
-        self.pdf_from(direction, true)
+        self.pdf_at(lookup, true)
     }
 
     fn pdf_from(&self, direction: Vec3, compensated: bool) -> f32 {
-        match &self.map {
-            None => uniform_sphere_pdf(),
-            Some(map) => {
-                let local = (map.world_to_light * direction).normalize_or(Vec3::Z);
-                let sin_theta = (1.0 - local.z * local.z).max(0.0).sqrt();
+        self.pdf_at(&self.look_up_point(direction), compensated)
+    }
+
+    /// `direction`'s point on the map, without the radiance there.
+    fn look_up_point(&self, direction: Vec3) -> SkyLookup {
+        SkyLookup {
+            radiance: Vec3::ZERO,
+            point: self.map.as_ref().map(|map| map.point_of(direction)),
+        }
+    }
+
+    fn pdf_at(&self, lookup: &SkyLookup, compensated: bool) -> f32 {
+        match (&self.map, lookup.point) {
+            (Some(map), Some(point)) => {
+                let sin_theta = (1.0 - point.cos_theta * point.cos_theta).max(0.0).sqrt();
                 if sin_theta <= 0.0 {
                     return 0.0;
                 }
-                map.table(compensated)
-                    .pdf(map.grid_of_uv(direction_to_uv(local)))
-                    / (2.0 * PI * PI * sin_theta)
+                map.table(compensated).pdf(map.grid_of_uv(point.uv)) / (2.0 * PI * PI * sin_theta)
             }
+            _ => uniform_sphere_pdf(),
         }
     }
 
