@@ -12,7 +12,7 @@
 use std::f32::consts::PI;
 
 use bevy_ecs::prelude::*;
-use glam::{Mat3, Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3, Vec3A};
 
 use super::LightSample;
 use crate::film::luminance;
@@ -43,8 +43,9 @@ struct EnvironmentMap {
     /// The texels with column 0 repeated after the last column and the last row repeated
     /// below the image ((w + 1) x (h + 1)): the lookup's right and lower neighbours, wrapped in
     /// u and clamped in v, are then always at i + 1 and j + 1, without a branch or a second
-    /// pointer to follow.
-    padded: Box<[Vec3]>,
+    /// pointer to follow. As `Vec3A`, one SSE register each: the lookup's arithmetic is the
+    /// same per channel (the same bits as with `Vec3`) in a third of the instructions.
+    padded: Box<[Vec3A]>,
     /// Over the grid of texel centres, in (u - 1 / 2w mod 1, v), so that the seam in phi is a
     /// cell of its own (between the last column and the first, repeated at x = 1).
     distribution: Bilinear2D,
@@ -94,7 +95,7 @@ impl EnvironmentMap {
             .filter(|table| table.integral() > 0.0);
         let padded = (0..=h)
             .flat_map(|j| (0..=w).map(move |i| (i % w, j.min(h - 1))))
-            .map(|(i, j)| image.texels[j * w + i])
+            .map(|(i, j)| Vec3A::from(image.texels[j * w + i]))
             .collect();
         Self {
             image: image.clone(),
@@ -125,8 +126,11 @@ impl EnvironmentMap {
         let (fx, fy) = (x - i as f32, y - j as f32);
         let row = w + 1;
         let texels = &self.padded[j * row + i..][..row + 2];
-        (texels[0] * (1.0 - fx) + texels[1] * fx) * (1.0 - fy)
-            + (texels[row] * (1.0 - fx) + texels[row + 1] * fx) * fy
+        let (fx, fy) = (Vec3A::splat(fx), Vec3A::splat(fy));
+        let (gx, gy) = (Vec3A::ONE - fx, Vec3A::ONE - fy);
+        Vec3::from(
+            (texels[0] * gx + texels[1] * fx) * gy + (texels[row] * gx + texels[row + 1] * fx) * fy,
+        )
     }
 
     /// Where `direction` (world space) meets the map.

@@ -252,9 +252,10 @@ mod tests {
     }
 
     /// The stepping search against the binary search it replaces, on an even grid, the
-    /// environment map's (texel centres and the poles), a very uneven one and one with a
-    /// repeated position: the same cell and fraction to the bit, for points on and beside
-    /// every vertex, across and outside the range, infinite and NaN.
+    /// environment map's (texel centres and the poles), two very uneven ones (crowded at the
+    /// start, where the guess falls short, and at the end, where it overshoots), one with a
+    /// repeated position and one of one cell: the same cell and fraction to the bit, for points
+    /// on and beside every vertex, across and outside the range, infinite and NaN.
     #[test]
     fn cell_search_is_the_binary_search() {
         fn binary_search(positions: &[f32], x: f32) -> (usize, f32) {
@@ -275,6 +276,7 @@ mod tests {
                 .chain(std::iter::once(1.0))
                 .collect(),
             vec![-3.0, -2.9, 0.0, 0.001, 0.002, 5.0, 100.0],
+            vec![0.0, 99.0, 99.5, 100.0],
             vec![0.0, 0.25, 0.25, 0.5, 1.0],
             vec![2.0, 7.0],
         ];
