@@ -402,6 +402,54 @@ mod tests {
         })
     }
 
+    /// The lookup (padded texels) against the bilinear formula written out: u wrapped by
+    /// `rem_euclid`, the neighbour column (i + 1) mod w, rows clamped to the image, on a map of
+    /// distinct texels, at points all over it and at the seam and the poles. The same
+    /// operations in the same order: equal up to a few ulps (1e-6 relative); a wrong neighbour
+    /// is off by a whole texel step.
+    #[test]
+    fn lookup_is_the_wrapped_and_clamped_bilinear_formula() {
+        let (w, h) = (5usize, 4usize);
+        let texels: Vec<Vec3> = (0..w * h)
+            .map(|t| Vec3::new(t as f32 + 1.0, (t * t % 7) as f32 + 0.5, 20.0 - t as f32))
+            .collect();
+        let image = ImageTexture {
+            width: w as u32,
+            height: h as u32,
+            texels: Arc::new(texels.clone()),
+            scale: Vec2::ONE,
+            delta: Vec2::ZERO,
+            wrap: Default::default(),
+        };
+        let map = EnvironmentMap::new(&image, Mat3::IDENTITY);
+        let formula = |uv: Vec2| {
+            let x = (uv.x * w as f32 - 0.5).rem_euclid(w as f32);
+            let y = (uv.y * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
+            let (i, j) = ((x as usize).min(w - 1), (y as usize).min(h - 1));
+            let (fx, fy) = (x - i as f32, y - j as f32);
+            let (i1, j1) = ((i + 1) % w, (j + 1).min(h - 1));
+            let at = |i: usize, j: usize| texels[j * w + i];
+            (at(i, j) * (1.0 - fx) + at(i1, j) * fx) * (1.0 - fy)
+                + (at(i, j1) * (1.0 - fx) + at(i1, j1) * fx) * fy
+        };
+        let mut points: Vec<Vec2> = (0..=60)
+            .flat_map(|a| (0..=40).map(move |b| Vec2::new(a as f32 / 60.0, b as f32 / 40.0)))
+            .collect();
+        points.extend([
+            Vec2::new(0.0, 0.0),
+            Vec2::new(0.999_999_9, 0.999_999_9),
+            Vec2::new(0.1 / w as f32, 0.5),
+            Vec2::new(1.0 - 0.1 / w as f32, 0.01),
+        ]);
+        for uv in points {
+            let (got, expected) = (map.lookup(uv), formula(uv));
+            assert!(
+                (got - expected).abs().max_element() <= 1e-6 * expected.abs().max_element(),
+                "{uv}: {got} against {expected}"
+            );
+        }
+    }
+
     /// Light sampling alone estimates the sky's integral over the sphere, X = Y(L) / pdf.
     ///
     /// With the map constant along each column, the density is l(u) S(v) / I in (u, v)
