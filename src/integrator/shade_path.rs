@@ -59,11 +59,11 @@ fn shade_vertex(
     let hidden = scene.hide_emitters && *path.depth == 0;
     let Some(hit) = hit else {
         if let Some((index, environment)) = lights.environment().filter(|_| !hidden) {
-            let light = environment.radiance(*path.direction);
+            let sky = environment.look_up(*path.direction);
             let weight = emission_weight(lights, *path.scatter_pdf, index, || {
-                environment.pdf_for_mis(*path.direction)
+                environment.pdf_for_mis_of(&sky)
             });
-            path.add_radiance(*path.throughput * light * weight);
+            path.add_radiance(*path.throughput * sky.radiance * weight);
         }
         for (index, sun) in lights.sun_discs().filter(|_| !hidden) {
             let light = sun.radiance_towards(*path.direction);

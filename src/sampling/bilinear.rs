@@ -22,8 +22,8 @@ use super::{AliasTable, ONE_MINUS_EPSILON};
 pub struct Bilinear2D {
     /// Vertex values, row-major: `ys.len()` rows of `xs.len()`.
     values: Vec<f32>,
-    xs: Vec<f32>,
-    ys: Vec<f32>,
+    xs: Axis,
+    ys: Axis,
     /// Over the rows of cells, by their integrals.
     rows: AliasTable,
     /// Per row of cells, over its cells by their integrals.
@@ -65,8 +65,8 @@ impl Bilinear2D {
                 .collect(),
             integral: row_integrals.iter().sum::<f64>() as f32,
             values,
-            xs,
-            ys,
+            xs: Axis::new(xs),
+            ys: Axis::new(ys),
         }
     }
 
@@ -87,10 +87,8 @@ impl Bilinear2D {
         let ty = sample_linear(uy, v00 + v10, v01 + v11);
         let (left, right) = (lerp(v00, v01, ty), lerp(v10, v11, ty));
         let tx = sample_linear(ux, left, right);
-        let point = Vec2::new(
-            lerp(self.xs[i], self.xs[i + 1], tx),
-            lerp(self.ys[j], self.ys[j + 1], ty),
-        );
+        let (xs, ys) = (&self.xs.positions, &self.ys.positions);
+        let point = Vec2::new(lerp(xs[i], xs[i + 1], tx), lerp(ys[j], ys[j + 1], ty));
         Some((point, lerp(left, right, tx) / self.integral))
     }
 
@@ -99,30 +97,69 @@ impl Bilinear2D {
         if self.integral <= 0.0 || !self.integral.is_finite() {
             return 0.0;
         }
-        let (i, tx) = cell_of(&self.xs, p.x);
-        let (j, ty) = cell_of(&self.ys, p.y);
+        let (i, tx) = self.xs.cell_of(p.x);
+        let (j, ty) = self.ys.cell_of(p.y);
         let [v00, v10, v01, v11] = self.corners(i, j);
         lerp(lerp(v00, v10, tx), lerp(v01, v11, tx), ty) / self.integral
     }
 
     /// Cell (i, j)'s corner values: (x0, y0), (x1, y0), (x0, y1), (x1, y1).
     fn corners(&self, i: usize, j: usize) -> [f32; 4] {
-        let nx = self.xs.len();
+        let nx = self.xs.positions.len();
         let at = |i: usize, j: usize| self.values[j * nx + i];
         [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
     }
 }
 
-/// The cell of `x` among the vertex positions and its fraction in it, both clamped.
-fn cell_of(positions: &[f32], x: f32) -> (usize, f32) {
-    let last = positions.len() - 2;
-    let cell = positions
-        .partition_point(|&p| p <= x)
-        .saturating_sub(1)
-        .min(last);
-    let (x0, x1) = (positions[cell], positions[cell + 1]);
-    let t = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
-    (cell, if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) })
+/// One axis of the grid: its vertex positions, and the map from a position to a first guess of
+/// its cell for [`Axis::cell_of`].
+#[derive(Clone, Debug)]
+struct Axis {
+    positions: Vec<f32>,
+    first: f32,
+    /// Cells per unit length over the whole axis: (n - 1) / (last - first).
+    cells_per_unit: f32,
+}
+
+impl Axis {
+    fn new(positions: Vec<f32>) -> Self {
+        let (first, last) = (positions[0], positions[positions.len() - 1]);
+        let cells_per_unit = (positions.len() - 1) as f32 / (last - first);
+        Self {
+            positions,
+            first,
+            cells_per_unit: if cells_per_unit.is_finite() {
+                cells_per_unit
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// The cell of `x` and its fraction in it, both clamped: the cell k - 1 for k the number
+    /// of positions at or below x (`partition_point`), found by stepping from the cell x would
+    /// be in were the positions evenly spaced. The steps give exactly the binary search's k
+    /// (positions[k - 1] <= x < positions[k]); on a grid near even spacing, such as the
+    /// environment map's (texel centres, and the poles half a texel beyond), there are none or
+    /// one, where the binary search took a dozen dependent loads. A NaN x fails every
+    /// comparison, as in the binary search, and lands in cell 0 with fraction 0 as there.
+    fn cell_of(&self, x: f32) -> (usize, f32) {
+        let positions = &self.positions;
+        let n = positions.len();
+        // Through i32, saturating (NaN to 0): f32 -> usize costs a dozen instructions.
+        let guess = ((x - self.first) * self.cells_per_unit) as i32;
+        let mut k = (guess.max(0) as usize + 1).min(n);
+        while k < n && positions[k] <= x {
+            k += 1;
+        }
+        while k > 0 && positions[k - 1] > x {
+            k -= 1;
+        }
+        let cell = k.saturating_sub(1).min(n - 2);
+        let (x0, x1) = (positions[cell], positions[cell + 1]);
+        let t = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+        (cell, if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) })
+    }
 }
 
 fn lerp(a: f32, b: f32, t: f32) -> f32 {
@@ -197,10 +234,11 @@ mod tests {
         let n = 200_000u32;
         let mut counts = vec![0u32; bins];
         let mut rng = PathRng::new(4, 0, 0);
+        let (x_bins, y_bins) = (Axis::new(xs.to_vec()), Axis::new(ys.to_vec()));
         for _ in 0..n {
             let (p, _) = d.sample(rng.next_2d()).unwrap();
-            let (i, _) = cell_of(&xs, p.x);
-            let (j, _) = cell_of(&ys, p.y);
+            let (i, _) = x_bins.cell_of(p.x);
+            let (j, _) = y_bins.cell_of(p.y);
             counts[j * (xs.len() - 1) + i] += 1;
         }
         assert!(counts.iter().zip(&probs).all(|(&c, &p)| p > 0.0 || c == 0));
@@ -211,6 +249,61 @@ mod tests {
             .map(|(&c, &p)| (f64::from(c) - p * f64::from(n)).powi(2) / (p * f64::from(n)))
             .sum();
         assert!(chi2 < 49.7, "chi2 {chi2}");
+    }
+
+    /// The stepping search against the binary search it replaces, on an even grid, the
+    /// environment map's (texel centres and the poles), two very uneven ones (crowded at the
+    /// start, where the guess falls short, and at the end, where it overshoots), one with a
+    /// repeated position and one of one cell: the same cell and fraction to the bit, for points
+    /// on and beside every vertex, across and outside the range, infinite and NaN.
+    #[test]
+    fn cell_search_is_the_binary_search() {
+        fn binary_search(positions: &[f32], x: f32) -> (usize, f32) {
+            let last = positions.len() - 2;
+            let cell = positions
+                .partition_point(|&p| p <= x)
+                .saturating_sub(1)
+                .min(last);
+            let (x0, x1) = (positions[cell], positions[cell + 1]);
+            let t = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+            (cell, if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) })
+        }
+        let h = 32;
+        let grids = [
+            (0..=64).map(|i| i as f32 / 64.0).collect::<Vec<f32>>(),
+            std::iter::once(0.0)
+                .chain((0..h).map(|j| (j as f32 + 0.5) / h as f32))
+                .chain(std::iter::once(1.0))
+                .collect(),
+            vec![-3.0, -2.9, 0.0, 0.001, 0.002, 5.0, 100.0],
+            vec![0.0, 99.0, 99.5, 100.0],
+            vec![0.0, 0.25, 0.25, 0.5, 1.0],
+            vec![2.0, 7.0],
+        ];
+        for positions in grids {
+            let axis = Axis::new(positions.clone());
+            let (first, last) = (positions[0], positions[positions.len() - 1]);
+            let mut xs: Vec<f32> = (-1000..=2000)
+                .map(|k| first + (last - first) * k as f32 / 1000.0)
+                .collect();
+            for &p in &positions {
+                xs.extend([p, p.next_up(), p.next_down()]);
+            }
+            xs.extend([
+                f32::INFINITY,
+                f32::NEG_INFINITY,
+                f32::MAX,
+                f32::MIN,
+                f32::NAN,
+            ]);
+            for x in xs {
+                let (expected, got) = (binary_search(&positions, x), axis.cell_of(x));
+                assert!(
+                    got.0 == expected.0 && got.1.to_bits() == expected.1.to_bits(),
+                    "{positions:?} at {x:e}: {got:?}, binary search {expected:?}"
+                );
+            }
+        }
     }
 
     #[test]
