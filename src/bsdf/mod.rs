@@ -329,21 +329,33 @@ impl Bsdf {
     }
 
     /// [`Bsdf::sample`] for a `wo` already made a unit vector by [`unit_direction`]. A
-    /// Lambertian BSDF is sampled inline in the caller (no call, no spill of its vector
-    /// registers), every other behind one call.
+    /// Lambertian BSDF and smooth glass are sampled inline in the caller (no call, no spill of
+    /// its vector registers, no sample through memory), every other behind one call.
     #[inline(always)]
     pub fn sample_unit_wo(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
         let u = Vec2::new(canonical(u.x), canonical(u.y));
-        if let Bsdf::Lambertian { reflectance } = *self {
-            return sample_lambertian(reflectance, wo, u);
+        match *self {
+            Bsdf::Lambertian { reflectance } => sample_lambertian(reflectance, wo, u),
+            Bsdf::Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            } => checked_sample(
+                Dielectric {
+                    reflectance,
+                    transmittance,
+                    eta,
+                }
+                .sample(wo, canonical(uc)),
+            ),
+            _ => self.sample_canonical(wo, u, uc),
         }
-        self.sample_canonical(wo, u, uc)
     }
 
     /// [`Bsdf::sample_unit_wo`] for a canonical `u`, by the BSDF's own sampling routine.
     #[inline(never)]
     fn sample_canonical(&self, wo: Vec3, u: Vec2, uc: f32) -> Option<BsdfSample> {
-        let s = match *self {
+        let sample = match *self {
             Bsdf::Lambertian { reflectance } => return sample_lambertian(reflectance, wo, u),
             Bsdf::SpecularReflection { reflectance } => {
                 SpecularReflection { reflectance }.sample(wo)
@@ -379,8 +391,8 @@ impl Bsdf {
             Bsdf::BlinnPlastic(p) => p.sample(wo, u, canonical(uc)),
             Bsdf::FresnelBlend(b) => b.sample(wo, u, canonical(uc)),
             Bsdf::Lafortune(l) => l.sample(wo, u, canonical(uc)),
-        }?;
-        (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
+        };
+        checked_sample(sample)
     }
 
     /// True when every lobe is a delta (mirror, smooth glass): no light
@@ -460,6 +472,14 @@ impl Bsdf {
             Bsdf::Lafortune(l) => l.albedo(),
         }
     }
+}
+
+/// A sample as returned: none unless its direction, value and density are finite and the
+/// density positive.
+#[inline(always)]
+fn checked_sample(sample: Option<BsdfSample>) -> Option<BsdfSample> {
+    let s = sample?;
+    (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
 }
 
 /// A Lambertian BSDF's sample for a canonical `u`. The cosine warp of a canonical `u` gives a

@@ -80,6 +80,15 @@ impl V8 {
     }
 
     #[inline(always)]
+    fn splat(v: Vec3) -> Self {
+        V8 {
+            x: F8::splat(v.x),
+            y: F8::splat(v.y),
+            z: F8::splat(v.z),
+        }
+    }
+
+    #[inline(always)]
     fn get(&self, lane: usize) -> Vec3 {
         Vec3::new(self.x.0[lane], self.y.0[lane], self.z.0[lane])
     }
@@ -145,23 +154,49 @@ struct Outputs {
 
 /// A block's Lambertian vertices waiting to be finished, with their slots in the block.
 #[derive(Default)]
-pub struct DiffuseQueue {
+pub struct DiffuseQueue<'a> {
     len: usize,
     slots: [usize; LANES],
     inputs: Inputs,
+    lamps: QueuedLamps<'a>,
     /// Where the kernel writes, kept from group to group (the kernel sets every field it
     /// reads back; clearing them for each group cost a tenth of the write-back).
     outputs: Outputs,
 }
 
-impl DiffuseQueue {
+/// The lamps of the queued lamp lanes. Most scenes have one lamp, so its fields are written
+/// once per group, into every lane, when the group is finished ([`DiffuseQueue::fill_lamps`]),
+/// not at each push: 13 stores a vertex.
+#[derive(Clone, Copy, Default)]
+enum QueuedLamps<'a> {
+    #[default]
+    None,
+    /// All lamp lanes so far have this lamp; no lane's lamp fields are written yet.
+    Shared(&'a EmitterParallelogram),
+    /// Two lamps or more: each lamp lane's fields are written.
+    Mixed,
+}
+
+impl Inputs {
+    /// Lane `lane`'s lamp fields.
+    #[inline(always)]
+    fn set_lamp(&mut self, lane: usize, lamp: &EmitterParallelogram) {
+        self.lamp_corner.set(lane, lamp.corner);
+        self.lamp_edge1.set(lane, lamp.edge1);
+        self.lamp_edge2.set(lane, lamp.edge2);
+        self.lamp_normal.set(lane, lamp.normal);
+        self.lamp_area.0[lane] = lamp.area;
+    }
+}
+
+impl<'a> DiffuseQueue<'a> {
     pub fn is_full(&self) -> bool {
         self.len == LANES
     }
 
     /// Queues the vertex of the block's path `slot`.
     #[inline(always)]
-    pub fn push(&mut self, slot: usize, vertex: DiffuseVertex<'_>) {
+    pub fn push(&mut self, slot: usize, vertex: DiffuseVertex<'a>) {
         let (lane, inputs) = (self.len, &mut self.inputs);
         self.slots[lane] = slot;
         inputs.position.set(lane, vertex.position);
@@ -174,11 +209,22 @@ impl DiffuseQueue {
             VertexLight::Point(light) => (true, light, false),
             VertexLight::None => (false, NO_LIGHT, false),
             VertexLight::Lamp(lamp) => {
-                inputs.lamp_corner.set(lane, lamp.lamp.corner);
-                inputs.lamp_edge1.set(lane, lamp.lamp.edge1);
-                inputs.lamp_edge2.set(lane, lamp.lamp.edge2);
-                inputs.lamp_normal.set(lane, lamp.lamp.normal);
-                inputs.lamp_area.0[lane] = lamp.lamp.area;
+                match self.lamps {
+                    QueuedLamps::None => self.lamps = QueuedLamps::Shared(lamp.lamp),
+                    QueuedLamps::Shared(shared) if std::ptr::eq(shared, lamp.lamp) => {}
+                    QueuedLamps::Shared(shared) => {
+                        // A second lamp: the lamp lanes queued so far get the first one's
+                        // fields now.
+                        for earlier in 0..lane {
+                            if inputs.lamp[earlier] {
+                                inputs.set_lamp(earlier, shared);
+                            }
+                        }
+                        inputs.set_lamp(lane, lamp.lamp);
+                        self.lamps = QueuedLamps::Mixed;
+                    }
+                    QueuedLamps::Mixed => inputs.set_lamp(lane, lamp.lamp),
+                }
                 inputs.lamp_u[0].0[lane] = lamp.u.x;
                 inputs.lamp_u[1].0[lane] = lamp.u.y;
                 let light = LightPoint {
@@ -205,6 +251,7 @@ impl DiffuseQueue {
     /// Russian roulette after `rr_depth` bounces) and empties the queue. Lanes past the
     /// queue's length compute on stale inputs and are not read.
     pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
+        self.fill_lamps();
         let out = &mut self.outputs;
         run_kernels(&mut self.inputs, out);
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
@@ -235,6 +282,20 @@ impl DiffuseQueue {
             russian_roulette(&mut path, rr_depth);
         }
         self.len = 0;
+    }
+
+    /// Writes the shared lamp's fields into every lane (those of lanes without a lamp are not
+    /// read) and starts the next group's record of lamps.
+    fn fill_lamps(&mut self) {
+        if let QueuedLamps::Shared(lamp) = self.lamps {
+            let inputs = &mut self.inputs;
+            inputs.lamp_corner = V8::splat(lamp.corner);
+            inputs.lamp_edge1 = V8::splat(lamp.edge1);
+            inputs.lamp_edge2 = V8::splat(lamp.edge2);
+            inputs.lamp_normal = V8::splat(lamp.normal);
+            inputs.lamp_area = F8::splat(lamp.area);
+        }
+        self.lamps = QueuedLamps::None;
     }
 }
 
@@ -543,8 +604,13 @@ mod tests {
         let radiance = Vec3::new(rng.next_f32(), rng.next_f32(), 2.0 * rng.next_f32());
         let light = match i % 5 {
             0 => VertexLight::None,
+            // Odd groups' lamp lanes have one lamp, even groups' two (kept apart in the queue).
             1 | 2 => VertexLight::Lamp(LampPoint {
-                lamp: &lamps[i % lamps.len()],
+                lamp: &lamps[if (i / LANES) % 2 == 1 {
+                    (i / LANES) % lamps.len()
+                } else {
+                    i % lamps.len()
+                }],
                 radiance: if i % 11 == 1 { Vec3::ZERO } else { radiance },
                 probability: rng.next_f32(),
                 u: rng.next_2d(),
@@ -613,6 +679,7 @@ mod tests {
                 queue.push(lane, *vertex);
             }
             let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
+            queue.fill_lamps();
             let mut inputs = queue.inputs;
             sample_lamps(&mut inputs);
             finish_lanes(&inputs, &mut baseline);

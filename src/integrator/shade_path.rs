@@ -46,11 +46,11 @@ pub fn shade_path_vertices(
 /// Shades a path vertex where it stands (returning its shadow ray, if any), or, at a
 /// Lambertian surface, draws its random numbers and light sample and queues it as the block's
 /// path `slot` in `diffuse`, for [`DiffuseQueue::finish`].
-fn shade_vertex(
-    scene: &Scene,
+fn shade_vertex<'a>(
+    scene: &Scene<'a>,
     hit: Option<&Hit>,
     mut path: PathSlots,
-    diffuse: &mut DiffuseQueue,
+    diffuse: &mut DiffuseQueue<'a>,
     slot: usize,
 ) -> Option<ShadowRay> {
     let lights = scene.lights;
