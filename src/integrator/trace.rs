@@ -33,11 +33,13 @@ pub fn trace_closest_hits(
 pub fn trace_shadow_rays(geometry: Res<SceneGeometry>, mut shadows: ResMut<ShadowBatch>) {
     let shadows = &mut *shadows;
     // Empty slots have t_max 0 and are skipped; invisible surfaces let the light through.
-    geometry.accel.any_hits(
+    // Rays `rays_per_path` apart go to the same light from neighbouring paths.
+    geometry.accel.any_hits_strided(
         &shadows.origin,
         &shadows.direction,
         0.0,
         &shadows.t_max,
+        shadows.rays_per_path,
         geometry.pass_through.as_ref(),
         &mut shadows.occluded,
     );
