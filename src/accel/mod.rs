@@ -431,13 +431,22 @@ impl Accel {
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
-        self.any_hits_strided(origins, dirs, t_min, t_maxs, 1, pass_through, occluded)
+        (occluded.par_chunks_mut(BATCH_CHUNK))
+            .zip(origins.par_chunks(BATCH_CHUNK))
+            .zip(dirs.par_chunks(BATCH_CHUNK))
+            .zip(t_maxs.par_chunks(BATCH_CHUNK))
+            .for_each(|(((occluded, origins), dirs), t_maxs)| {
+                let rays = (origins, dirs, t_maxs);
+                self.any_hits_chunk(rays, t_min, None, pass_through, occluded)
+            });
     }
 
-    /// [`Accel::any_hits`] for a batch whose rays `stride` apart are the likeliest to run side
-    /// by side (a shadow batch with `stride` rays per path, one per light: the rays of
-    /// neighbouring paths to one light), which are traced as packets where they are coherent
-    /// enough ([`shadow_packet`]). The results are the single queries' whatever the stride.
+    /// [`Accel::any_hits`] for a batch whose rays `stride` apart run side by side (a shadow
+    /// batch with `stride` rays per path, one per light: the rays of neighbouring paths to one
+    /// light), which are traced as packets where they are coherent enough
+    /// ([`shadow_packet`]). The results are the single queries' whatever the stride. Not for
+    /// incoherent batches (a path tracer's, whose neighbouring rays go to lights drawn at
+    /// random): their short packets cost more than single rays.
     #[allow(clippy::too_many_arguments)]
     pub fn any_hits_strided(
         &self,
@@ -459,20 +468,21 @@ impl Accel {
                 self.any_hits_chunk(
                     (origins, dirs, t_maxs),
                     t_min,
-                    stride,
+                    Some(stride),
                     pass_through,
                     occluded,
                 )
             });
     }
 
-    /// One rayon task of [`Accel::any_hits`], as [`Accel::closest_hits_chunk`].
+    /// One rayon task of [`Accel::any_hits`], as [`Accel::closest_hits_chunk`]; with a
+    /// `stride`, of [`Accel::any_hits_strided`].
     #[inline(never)]
     fn any_hits_chunk(
         &self,
         (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
         t_min: f32,
-        stride: usize,
+        stride: Option<usize>,
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
@@ -487,7 +497,8 @@ impl Accel {
             return;
         }
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2")
+        if let Some(stride) = stride
+            && std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("bmi1")
             && std::arch::is_x86_feature_detected!("bmi2")
         {
