@@ -14,6 +14,8 @@ use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
 use super::memory::{on_huge_pages, prefetch};
 #[cfg(target_arch = "x86_64")]
 use super::packet::{PACKET_SIZE, RayPacket};
+#[cfg(target_arch = "x86_64")]
+use super::shadow_packet::ShadowPacket;
 use super::sphere::{Sphere4, sphere_bounds};
 use super::triangle::{LaneHit, Triangle4, triangle_bounds};
 use super::{BuildStats, Hit, SphereInstance};
@@ -199,6 +201,67 @@ impl Blas {
                         );
                     }
                 }
+            },
+            #[inline(always)]
+            |payload| {
+                if payload & SPHERE_LEAF == 0 {
+                    let start = (payload >> COUNT_BITS) as usize;
+                    prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
+                }
+            },
+        )
+    }
+}
+
+impl Blas {
+    /// [`Blas::find`] as an any-hit query for the rays of `packet` set in `active`, walking
+    /// the tree together ([`Bvh::traverse_shadow_packet`]); ray `lane`'s range ends at
+    /// `t_max[lane]`. Each leaf's packets are tested ray by ray, as [`Blas::find`] tests them.
+    /// Returns the mask of the rays that hit something.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn find_shadow_packet(
+        &self,
+        packet: &ShadowPacket,
+        active: u32,
+        t_min: f32,
+        t_max: &[f32; PACKET_SIZE],
+    ) -> u32 {
+        self.bvh.traverse_shadow_packet(
+            packet,
+            active,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |payload, mut rays| {
+                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
+                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+                let mut hits = 0;
+                while rays != 0 {
+                    let lane = rays.trailing_zeros() as usize;
+                    rays &= rays - 1;
+                    let (o, d) = &packet.splats(lane);
+                    let (mut t, mut found) = (t_max[lane], None);
+                    let hit = if payload & SPHERE_LEAF == 0 {
+                        test_run::<true, _>(
+                            &self.packets[run.clone()],
+                            |packet, t_max| packet.intersect::<true>(o, d, t_min, t_max),
+                            |packet, lane| packet.ids[lane],
+                            &mut t,
+                            &mut found,
+                        )
+                    } else {
+                        test_run::<true, _>(
+                            &self.spheres[run.clone()],
+                            |packet, t_max| packet.intersect::<true>(o, d, t_min, t_max),
+                            |packet, lane| packet.ids[lane],
+                            &mut t,
+                            &mut found,
+                        )
+                    };
+                    hits |= (hit as u32) << lane;
+                }
+                hits
             },
             #[inline(always)]
             |payload| {

@@ -17,6 +17,8 @@ use super::aabb::Aabb;
 use super::memory::{on_huge_pages, prefetch};
 #[cfg(target_arch = "x86_64")]
 use super::packet::{PACKET_SIZE, RayPacket};
+#[cfg(target_arch = "x86_64")]
+use super::shadow_packet::ShadowPacket;
 
 /// Number of SAH bins per axis; Wald 2007 finds 16 to lose almost nothing against a full sweep.
 const BINS: usize = 16;
@@ -462,6 +464,94 @@ impl Bvh {
                 let mask = mask & unsafe { _mm256_movemask_ps(before) } as u32;
                 if mask != 0 {
                     (current, rays) = (child, mask);
+                    break;
+                }
+            }
+        }
+    }
+}
+
+impl Bvh {
+    /// [`Bvh::traverse`] as an any-hit query for the rays of `packet` set in `active`,
+    /// together: each node is fetched once and its boxes tested against all of them
+    /// ([`ShadowPacket::hit_boxes`]); children are visited in the node's lane order, each
+    /// with the rays that entered it and have not yet hit anything. `leaf(payload, rays)` is
+    /// called on each leaf with the mask of rays that reach it and returns the mask of those
+    /// that hit something there; they retire. Returns the mask of rays that hit, as soon as
+    /// all have. A ray's range never shrinks, so it reaches every leaf it would reach alone
+    /// until its first hit.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn traverse_shadow_packet<F, P>(
+        &self,
+        packet: &ShadowPacket,
+        active: u32,
+        t_min: f32,
+        t_max: &[f32; PACKET_SIZE],
+        mut leaf: F,
+        prefetch_leaf: P,
+    ) -> u32
+    where
+        F: FnMut(u32, u32) -> u32,
+        P: Fn(u32),
+    {
+        use std::arch::x86_64::*;
+        let Some((mut current, _)) = self.root else {
+            return 0;
+        };
+        // The rays still looking for a hit, and those that reach the current child.
+        let (mut live, mut rays) = (active, active);
+        // SAFETY (every intrinsic below): `ShadowPacket`'s module documentation.
+        let t_min8 = unsafe { _mm256_set1_ps(t_min) };
+        let t_max8 = unsafe { _mm256_loadu_ps(t_max.as_ptr()) };
+        let mut stack = [const { MaybeUninit::<(u32, u32)>::uninit() }; STACK_SIZE];
+        let mut depth = 0;
+        loop {
+            if current & LEAF == 0 {
+                // SAFETY: as in `traverse`.
+                let node = unsafe { self.nodes.get_unchecked(current as usize) };
+                let boxes = packet.hit_boxes(&node.bounds, t_min8, t_max8);
+                let mut entered = [(0, 0); 4];
+                let mut count = 0;
+                for (lane, &mask) in boxes.iter().enumerate() {
+                    let mask = mask & rays;
+                    if mask != 0 {
+                        entered[count] = (node.child[lane], mask);
+                        count += 1;
+                    }
+                }
+                if count > 0 {
+                    // The first entered is visited now, the others wait, the second on top.
+                    for &(child, mask) in entered[1..count].iter().rev() {
+                        if child & LEAF == 0 {
+                            prefetch(self.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
+                        } else {
+                            prefetch_leaf(child & !LEAF);
+                        }
+                        // SAFETY: as in `traverse`'s `push`.
+                        debug_assert!(depth < STACK_SIZE);
+                        unsafe { stack.get_unchecked_mut(depth).write((child, mask)) };
+                        depth += 1;
+                    }
+                    (current, rays) = entered[0];
+                    continue;
+                }
+            } else {
+                live &= !leaf(current & !LEAF, rays);
+                if live == 0 {
+                    return active;
+                }
+            }
+            // Pop the next child that some of its rays still looking for a hit enter.
+            loop {
+                if depth == 0 {
+                    return active & !live;
+                }
+                depth -= 1;
+                // SAFETY: as in `traverse`.
+                let (child, mask) = unsafe { stack.get_unchecked(depth).assume_init() };
+                if mask & live != 0 {
+                    (current, rays) = (child, mask & live);
                     break;
                 }
             }

@@ -24,6 +24,7 @@ mod packet;
 mod pass_through;
 mod plane;
 mod primitive;
+mod shadow_packet;
 mod sphere;
 mod triangle;
 pub(crate) mod vex;
@@ -305,9 +306,7 @@ impl Accel {
         let Some(ray) = Ray::new(origin.into(), dir.into()) else {
             return false;
         };
-        if (self.planes.iter()).any(|p| p.intersect(ray.origin, ray.dir, t_min, t_max).is_some())
-            || (self.disks.iter()).any(|d| d.intersect(ray.origin, ray.dir, t_min, t_max).is_some())
-        {
+        if self.any_beside_trees(ray.origin, ray.dir, t_min, t_max) {
             return true;
         }
         let (mut t_max, mut found) = (t_max, None);
@@ -316,6 +315,14 @@ impl Accel {
                 .instances
                 .find::<true>(ray.origin, ray.dir, t_min, &mut t_max, &mut found)
     }
+
+    /// Whether a plane or a disk (tested beside the trees) is hit with t in (t_min, t_max).
+    #[inline(always)]
+    fn any_beside_trees(&self, o: Vec3A, d: Vec3A, t_min: f32, t_max: f32) -> bool {
+        (self.planes.iter()).any(|p| p.intersect(o, d, t_min, t_max).is_some())
+            || (self.disks.iter()).any(|disk| disk.intersect(o, d, t_min, t_max).is_some())
+    }
+
     /// For each i: hits[i] = closest_hit(origins[i], dirs[i], t_min, t_maxs[i]); parallel with
     /// rayon over chunks. Only the first `min` of the slices' lengths entries are computed.
     pub fn closest_hits(
@@ -429,18 +436,53 @@ impl Accel {
             .zip(dirs.par_chunks(BATCH_CHUNK))
             .zip(t_maxs.par_chunks(BATCH_CHUNK))
             .for_each(|(((occluded, origins), dirs), t_maxs)| {
-                self.any_hits_chunk(origins, dirs, t_min, t_maxs, pass_through, occluded)
+                let rays = (origins, dirs, t_maxs);
+                self.any_hits_chunk(rays, t_min, None, pass_through, occluded)
             });
     }
 
-    /// One rayon task of [`Accel::any_hits`], as [`Accel::closest_hits_chunk`].
-    #[inline(never)]
-    fn any_hits_chunk(
+    /// [`Accel::any_hits`] for a batch whose rays `stride` apart run side by side (a shadow
+    /// batch with `stride` rays per path, one per light: the rays of neighbouring paths to one
+    /// light), which are traced as packets where they are coherent enough
+    /// ([`shadow_packet`]). The results are the single queries' whatever the stride. Not for
+    /// incoherent batches (a path tracer's, whose neighbouring rays go to lights drawn at
+    /// random): their short packets cost more than single rays.
+    #[allow(clippy::too_many_arguments)]
+    pub fn any_hits_strided(
         &self,
         origins: &[Vec3],
         dirs: &[Vec3],
         t_min: f32,
         t_maxs: &[f32],
+        stride: usize,
+        pass_through: Option<&PassThrough>,
+        occluded: &mut [bool],
+    ) {
+        let stride = stride.max(1);
+        let chunk = BATCH_CHUNK * stride;
+        (occluded.par_chunks_mut(chunk))
+            .zip(origins.par_chunks(chunk))
+            .zip(dirs.par_chunks(chunk))
+            .zip(t_maxs.par_chunks(chunk))
+            .for_each(|(((occluded, origins), dirs), t_maxs)| {
+                self.any_hits_chunk(
+                    (origins, dirs, t_maxs),
+                    t_min,
+                    Some(stride),
+                    pass_through,
+                    occluded,
+                )
+            });
+    }
+
+    /// One rayon task of [`Accel::any_hits`], as [`Accel::closest_hits_chunk`]; with a
+    /// `stride`, of [`Accel::any_hits_strided`].
+    #[inline(never)]
+    fn any_hits_chunk(
+        &self,
+        (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        stride: Option<usize>,
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
@@ -453,6 +495,18 @@ impl Accel {
                 }
             }
             return;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if let Some(stride) = stride
+            && std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("bmi1")
+            && std::arch::is_x86_feature_detected!("bmi2")
+        {
+            let rays = (origins, dirs, t_maxs);
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe {
+                self.any_hits_in_packets(rays, t_min, stride, pass_through, occluded)
+            };
         }
         vex::run(
             #[inline(always)]
@@ -469,5 +523,74 @@ impl Accel {
                 }
             },
         )
+    }
+
+    /// [`Accel::any_hits_chunk`] with each of the `stride` interleaved sequences of rays cut
+    /// into runs of coherent rays ([`shadow_packet::coherent_shadow_run`]) traced through the
+    /// world tree as packets, the others one by one. Each ray of a packet meets the planes and
+    /// disks first and the instances last, as in [`Accel::find_any`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2")]
+    fn any_hits_in_packets(
+        &self,
+        (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        stride: usize,
+        pass_through: Option<&PassThrough>,
+        occluded: &mut [bool],
+    ) {
+        let n = (occluded.len().min(origins.len()))
+            .min(dirs.len())
+            .min(t_maxs.len());
+        let single = |k: usize| match pass_through {
+            None => self.find_any(origins[k], dirs[k], t_min, t_maxs[k]),
+            Some(pass) => self.find_any_opaque(origins[k], dirs[k], t_min, t_maxs[k], pass),
+        };
+        for first in 0..stride.min(n) {
+            let mut i = first;
+            while i < n {
+                let rays = (origins, dirs, t_maxs);
+                let run = shadow_packet::coherent_shadow_run(rays, t_min, i, stride, n);
+                if run < packet::MIN_PACKET {
+                    for k in (i..n).step_by(stride).take(run.max(1)) {
+                        occluded[k] = single(k);
+                    }
+                    i += run.max(1) * stride;
+                    continue;
+                }
+                let lanes = (i..n).step_by(stride).take(run);
+                let packet = shadow_packet::ShadowPacket::new(origins, dirs, lanes.clone());
+                let mut t_max = [t_min; packet::PACKET_SIZE];
+                let mut hit = 0;
+                for (lane, k) in lanes.clone().enumerate() {
+                    t_max[lane] = t_maxs[k];
+                    let (o, d) = (packet.origins[lane], packet.dirs[lane]);
+                    hit |= (self.any_beside_trees(o, d, t_min, t_max[lane]) as u32) << lane;
+                }
+                let active = ((1 << run) - 1) & !hit;
+                if active != 0 {
+                    hit |= self
+                        .world
+                        .find_shadow_packet(&packet, active, t_min, &t_max);
+                }
+                for (lane, k) in lanes.enumerate() {
+                    let (o, d) = (packet.origins[lane], packet.dirs[lane]);
+                    let blocked = hit & (1 << lane) != 0
+                        || (self.instances).find::<true>(
+                            o,
+                            d,
+                            t_min,
+                            &mut { t_max[lane] },
+                            &mut None,
+                        );
+                    occluded[k] = match pass_through {
+                        Some(pass) if blocked => self
+                            .blocked_past_pass_through(origins[k], dirs[k], t_min, t_maxs[k], pass),
+                        _ => blocked,
+                    };
+                }
+                i += run * stride;
+            }
+        }
     }
 }

@@ -340,6 +340,11 @@ pub struct HitBatch {
 #[derive(Resource, Default)]
 pub struct ShadowBatch {
     pub rays_per_path: usize,
+    /// Set by a shading stage whose slot `k` of every path holds the ray to light `k` (the
+    /// ray caster's): the rays of neighbouring paths in one slot then run side by side to the
+    /// same light, and are traced as packets. The path tracer's slot holds a ray to a light
+    /// drawn at random.
+    pub slot_per_light: bool,
     pub origin: Vec<Vec3>,
     pub direction: Vec<Vec3>,
     /// The last scattering vertex, where the current ray's direction was sampled (a pass through
