@@ -6,7 +6,9 @@ use rayon::prelude::*;
 
 use super::batch::PathBatch;
 use crate::film::PixelFilter;
-use crate::sampling::{DimensionSampler, Divisor, PassStreams, PathRng, PixelSampler};
+use crate::sampling::{
+    DimensionSampler, Divisor, PADDED_DRAWS, PassStreams, PathRng, PixelSampler, SamplerKind,
+};
 use crate::settings::RenderSettings;
 
 /// Which pass (sample index per pixel) is running.
@@ -40,7 +42,13 @@ pub fn start_pass(
 ) {
     let width = Divisor::new(settings.width);
     let pass = pass.0;
-    let streams = PassStreams::new(settings.seed, pass);
+    // The Sobol' sampler's paths take their first draws from padded Sobol' too; the plain
+    // samplers' are hashed throughout.
+    let padded_draws = match settings.sampler {
+        SamplerKind::Sobol => PADDED_DRAWS,
+        _ => 0,
+    };
+    let streams = PassStreams::new(settings.seed, pass, padded_draws);
     let first = chunk.first;
     let pass_sampler = sampling.sampler.pass(pass);
     let sampler = pass_sampler.dimension(FILM_DIMENSION);

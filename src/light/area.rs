@@ -577,7 +577,10 @@ mod tests {
                 );
             }
             let ratio = measured[0].0 / measured[1].0;
-            let bound = predicted[0] / predicted[1] * (1.0 + 5.0 * measured[0].1 / measured[0].0);
+            // 5 standard errors of the ratio: the numerator's and the denominator's combined.
+            let relative = |(var, error): (f64, f64)| error / var;
+            let spread = relative(measured[0]).hypot(relative(measured[1]));
+            let bound = predicted[0] / predicted[1] * (1.0 + 5.0 * spread);
             assert!(
                 ratio < bound.min(0.5),
                 "{p}: variance ratio {ratio}, bound {bound}"

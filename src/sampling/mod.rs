@@ -6,6 +6,7 @@ pub mod bilinear;
 pub mod distribution;
 mod divisor;
 mod hash;
+mod padded_sobol;
 pub mod pixel_sampler;
 pub mod rng;
 mod sobol;
@@ -17,7 +18,7 @@ pub use bilinear::Bilinear2D;
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
 pub use pixel_sampler::{DimensionSampler, PassSampler, PixelSampler, SamplerKind};
-pub use rng::{PassStreams, PathRng};
+pub use rng::{PADDED_DRAWS, PassStreams, PathRng};
 
 /// The largest f32 below 1 (1 - 2^-24): samples are clamped to it so that they stay in [0, 1).
 pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
