@@ -15,7 +15,8 @@ over pixels and channels, as `foton compare` computes it.
 
 Seconds: foton's whole process (`foton render`: loading, building the BVH, rendering, writing the
 EXR), Mitsuba's `mi.render` call alone after one render that compiles its kernels (llvm_ad_rgb),
-back to back at each sample count, median of --repeat runs (seeds 1..repeat; relMSE is their mean).
+back to back at each sample count (foton's runs first, after a pause that lets Mitsuba's threads
+from the previous count go idle), median of --repeat runs (seeds 1..repeat; relMSE is their mean).
 
 From the points, per scene:
 - equal spp: foton's relMSE / Mitsuba's at the largest sample count;
@@ -120,9 +121,14 @@ def measure(name, xml, args, cache):
     out = cache / f"{name}-foton.exr"
     for spp in args.spp:
         f_times, f_errs, m_times, m_errs = [], [], [], []
+        # foton's runs as one block, after a pause: for some hundred milliseconds after a render
+        # call Mitsuba's threads still take CPU, which slowed a foton run started at once by
+        # about 35 % (dof-sky, 64 spp: 0.489 s against 0.36 s alone; 0.38 s after 0.3 s).
+        time.sleep(1.0)
         for seed in range(1, args.repeat + 1):
             f_times.append(foton_render(xml, spp, seed, out))
             f_errs.append(foton_relmse(out, foton_ref))
+        for seed in range(1, args.repeat + 1):
             img, seconds = mitsuba_render(xml, spp, seed)
             m_times.append(seconds)
             m_errs.append(float(np.mean((img - mitsuba_ref) ** 2 / (mitsuba_ref**2 + EPS))))
