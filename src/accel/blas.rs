@@ -7,7 +7,7 @@
 
 use std::ops::Range;
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::bvh::{BuildPrim, Bvh, LEAF_BLOCK, Ray, Shape};
@@ -122,34 +122,10 @@ impl Blas {
             !ANY,
             #[inline(always)]
             |payload, t_max| {
-                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
-                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
-                let (o, d) = (&ray.origin4, &ray.dir4);
-                if payload & SPHERE_LEAF == 0 {
-                    test_run::<ANY, _>(
-                        &self.packets[run],
-                        |packet, t_max| packet.intersect::<ANY>(o, d, t_min, t_max),
-                        |packet, lane| packet.ids[lane],
-                        t_max,
-                        found,
-                    )
-                } else {
-                    test_run::<ANY, _>(
-                        &self.spheres[run],
-                        |packet, t_max| packet.intersect::<ANY>(o, d, t_min, t_max),
-                        |packet, lane| packet.ids[lane],
-                        t_max,
-                        found,
-                    )
-                }
+                self.test_leaf::<ANY>(payload, &ray.origin4, &ray.dir4, t_min, t_max, found)
             },
             #[inline(always)]
-            |payload| {
-                if payload & SPHERE_LEAF == 0 {
-                    let start = (payload >> COUNT_BITS) as usize;
-                    prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
-                }
-            },
+            |payload| self.prefetch_leaf(payload),
         )
     }
 }
@@ -176,39 +152,16 @@ impl Blas {
             t_max,
             #[inline(always)]
             |payload, mut rays, t_max| {
-                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
-                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
-                let o = &packet.origin4;
                 while rays != 0 {
                     let lane = rays.trailing_zeros() as usize;
                     rays &= rays - 1;
                     let d = &packet.dir4(lane);
-                    if payload & SPHERE_LEAF == 0 {
-                        test_run::<false, _>(
-                            &self.packets[run.clone()],
-                            |packet, t_max| packet.intersect::<false>(o, d, t_min, t_max),
-                            |packet, lane| packet.ids[lane],
-                            &mut t_max[lane],
-                            &mut found[lane],
-                        );
-                    } else {
-                        test_run::<false, _>(
-                            &self.spheres[run.clone()],
-                            |packet, t_max| packet.intersect::<false>(o, d, t_min, t_max),
-                            |packet, lane| packet.ids[lane],
-                            &mut t_max[lane],
-                            &mut found[lane],
-                        );
-                    }
+                    let (t_max, found) = (&mut t_max[lane], &mut found[lane]);
+                    self.test_leaf::<false>(payload, &packet.origin4, d, t_min, t_max, found);
                 }
             },
             #[inline(always)]
-            |payload| {
-                if payload & SPHERE_LEAF == 0 {
-                    let start = (payload >> COUNT_BITS) as usize;
-                    prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
-                }
-            },
+            |payload| self.prefetch_leaf(payload),
         )
     }
 }
@@ -234,43 +187,64 @@ impl Blas {
             t_max,
             #[inline(always)]
             |payload, mut rays| {
-                let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
-                let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
                 let mut hits = 0;
                 while rays != 0 {
                     let lane = rays.trailing_zeros() as usize;
                     rays &= rays - 1;
                     let (o, d) = &packet.splats(lane);
                     let (mut t, mut found) = (t_max[lane], None);
-                    let hit = if payload & SPHERE_LEAF == 0 {
-                        test_run::<true, _>(
-                            &self.packets[run.clone()],
-                            |packet, t_max| packet.intersect::<true>(o, d, t_min, t_max),
-                            |packet, lane| packet.ids[lane],
-                            &mut t,
-                            &mut found,
-                        )
-                    } else {
-                        test_run::<true, _>(
-                            &self.spheres[run.clone()],
-                            |packet, t_max| packet.intersect::<true>(o, d, t_min, t_max),
-                            |packet, lane| packet.ids[lane],
-                            &mut t,
-                            &mut found,
-                        )
-                    };
+                    let hit = self.test_leaf::<true>(payload, o, d, t_min, &mut t, &mut found);
                     hits |= (hit as u32) << lane;
                 }
                 hits
             },
             #[inline(always)]
-            |payload| {
-                if payload & SPHERE_LEAF == 0 {
-                    let start = (payload >> COUNT_BITS) as usize;
-                    prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
-                }
-            },
+            |payload| self.prefetch_leaf(payload),
         )
+    }
+}
+
+impl Blas {
+    /// Tests the leaf `payload` names (a run of triangle or sphere packets) against one ray,
+    /// its origin `o` and direction `d` splat across the lanes, as [`test_run`] does.
+    #[inline(always)]
+    fn test_leaf<const ANY: bool>(
+        &self,
+        payload: u32,
+        o: &[Vec4; 3],
+        d: &[Vec4; 3],
+        t_min: f32,
+        t_max: &mut f32,
+        found: &mut Option<Hit>,
+    ) -> bool {
+        let start = ((payload & !SPHERE_LEAF) >> COUNT_BITS) as usize;
+        let run = start..start + (payload & ((1 << COUNT_BITS) - 1)) as usize;
+        if payload & SPHERE_LEAF == 0 {
+            test_run::<ANY, _>(
+                &self.packets[run],
+                |packet, t_max| packet.intersect::<ANY>(o, d, t_min, t_max),
+                |packet, lane| packet.ids[lane],
+                t_max,
+                found,
+            )
+        } else {
+            test_run::<ANY, _>(
+                &self.spheres[run],
+                |packet, t_max| packet.intersect::<ANY>(o, d, t_min, t_max),
+                |packet, lane| packet.ids[lane],
+                t_max,
+                found,
+            )
+        }
+    }
+
+    /// Starts fetching a triangle leaf's packets while its box test finishes.
+    #[inline(always)]
+    fn prefetch_leaf(&self, payload: u32) {
+        if payload & SPHERE_LEAF == 0 {
+            let start = (payload >> COUNT_BITS) as usize;
+            prefetch(self.packets.as_ptr().wrapping_add(start), PACKET_LINES);
+        }
     }
 }
 

@@ -552,13 +552,14 @@ impl Accel {
                 let rays = (origins, dirs, t_maxs);
                 let run = shadow_packet::coherent_shadow_run(rays, t_min, i, stride, n);
                 if run < packet::MIN_PACKET {
-                    for k in (i..n).step_by(stride).take(run.max(1)) {
+                    for lane in 0..run.max(1) {
+                        let k = i + lane * stride;
                         occluded[k] = single(k);
                     }
                     i += run.max(1) * stride;
                     continue;
                 }
-                let lanes = (i..n).step_by(stride).take(run);
+                let lanes = (0..run).map(|lane| i + lane * stride);
                 let packet = shadow_packet::ShadowPacket::new(origins, dirs, lanes.clone());
                 let mut t_max = [t_min; packet::PACKET_SIZE];
                 let mut hit = 0;

@@ -120,9 +120,9 @@ impl RayPacket {
             let bound = unsafe { *bounds.as_ptr().byte_add(offset) };
             (bound - self.origin4[axis]).to_array()
         };
-        let near = [0, 1, 2].map(|axis| offset(self.near[axis], axis));
-        let far = [0, 1, 2].map(|axis| offset(self.far[axis], axis));
-        [0, 1, 2, 3].map(|child| {
+        let near: [_; 3] = std::array::from_fn(|axis| offset(self.near[axis], axis));
+        let far: [_; 3] = std::array::from_fn(|axis| offset(self.far[axis], axis));
+        std::array::from_fn(|child| {
             // SAFETY: see the module's documentation.
             unsafe {
                 let t = |plane: &[[f32; 4]; 3], axis: usize| {

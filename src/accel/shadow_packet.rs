@@ -51,18 +51,22 @@ pub(crate) fn coherent_shadow_run(
     );
     // NaN for an infinite range: such a ray shares no packet.
     let limit = (far - origin).length_squared() * (SPREAD * SPREAD);
-    (first..n)
-        .step_by(stride)
-        .take(PACKET_SIZE)
-        .take_while(|&i| {
-            let (o, d) = (origins[i], dirs[i]);
-            t_min < t_maxs[i]
-                && Vec3A::from(d).is_negative_bitmask() == octant
-                && (o - origin).length_squared() <= limit
-                && (end(i) - far).length_squared() <= limit
-                && Ray::new(o.into(), d.into()).is_some()
+    // Index arithmetic, not `step_by(stride).take(..)`: that chain cost the ray caster about
+    // 60 M instructions a frame under callgrind.
+    let joins = |i: usize| {
+        let (o, d) = (origins[i], dirs[i]);
+        t_min < t_maxs[i]
+            && Vec3A::from(d).is_negative_bitmask() == octant
+            && (o - origin).length_squared() <= limit
+            && (end(i) - far).length_squared() <= limit
+            && Ray::new(o.into(), d.into()).is_some()
+    };
+    (0..PACKET_SIZE)
+        .position(|lane| {
+            let i = first + lane * stride;
+            i >= n || !joins(i)
         })
-        .count()
+        .unwrap_or(PACKET_SIZE)
 }
 
 /// Up to [`PACKET_SIZE`] rays with directions of the same signs, prepared for the box tests.
@@ -146,7 +150,7 @@ impl ShadowPacket {
         };
         let near = self.near.map(plane);
         let far = self.far.map(plane);
-        [0, 1, 2, 3].map(|child| {
+        std::array::from_fn(|child| {
             // SAFETY: see the module's documentation.
             unsafe {
                 // `(bound - o) * inv_dir`, as the single ray computes it.
