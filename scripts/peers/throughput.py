@@ -76,6 +76,9 @@ def main():
     rows = []
     for name in SCENES:
         scene = REPO / "scripts/peers" / f"{name}.xml"
+        # Mitsuba's threads stay busy for some hundred milliseconds after a render call (see
+        # equal_time.py): foton's bench starts after a pause.
+        time.sleep(1.0)
         foton = foton_paths_per_second(args.foton, scene, args.spp, args.repeat)
         mitsuba = mitsuba_samples_per_second(scene, args.spp, args.repeat)
         rows.append((name, foton, mitsuba))
