@@ -340,10 +340,9 @@ pub struct HitBatch {
 #[derive(Resource, Default)]
 pub struct ShadowBatch {
     pub rays_per_path: usize,
-    /// Set by a shading stage whose slot `k` of every path holds the ray to light `k` (the
-    /// ray caster's): the rays of neighbouring paths in one slot then run side by side to the
-    /// same light, and are traced as packets. The path tracer's slot holds a ray to a light
-    /// drawn at random.
+    /// Slot `k` of every path holds the ray to light `k` (the ray caster's layout): the rays
+    /// of neighbouring paths in one slot then run side by side to the same light, and are
+    /// traced as packets. The path tracer's slot holds a ray to a light drawn at random.
     pub slot_per_light: bool,
     pub origin: Vec<Vec3>,
     pub direction: Vec<Vec3>,
@@ -359,9 +358,10 @@ pub struct ShadowBatch {
 }
 
 impl ShadowBatch {
-    pub fn new(rays_per_path: usize) -> Self {
+    pub fn new(rays_per_path: usize, slot_per_light: bool) -> Self {
         Self {
             rays_per_path,
+            slot_per_light,
             ..Default::default()
         }
     }

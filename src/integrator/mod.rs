@@ -159,11 +159,14 @@ impl Renderer {
         world.init_resource::<ChunkRange>();
         world.init_resource::<PathBatch>();
         world.init_resource::<HitBatch>();
-        let rays_per_path = match settings.integrator {
-            IntegratorKind::PathTracer => 1,
-            IntegratorKind::RayCaster => shadow_rays_per_path(world.resource::<LightTable>()),
+        // The path tracer: one ray to a light drawn at random; the ray caster: one per light.
+        let (rays_per_path, slot_per_light) = match settings.integrator {
+            IntegratorKind::PathTracer => (1, false),
+            IntegratorKind::RayCaster => {
+                (shadow_rays_per_path(world.resource::<LightTable>()), true)
+            }
         };
-        world.insert_resource(ShadowBatch::new(rays_per_path));
+        world.insert_resource(ShadowBatch::new(rays_per_path, slot_per_light));
 
         let mut chunk = Schedule::default();
         register_cameras(&mut chunk, &mut world);

@@ -31,8 +31,6 @@ pub fn shade_raycast_hits(
     mut shadows: ResMut<ShadowBatch>,
 ) {
     let scene = inputs.scene();
-    // Slot `k` of each path is its ray to light `k` (`gather`).
-    shadows.slot_per_light = true;
     shade_live_blocks(inputs.hits(), &mut batch, &mut shadows, |mut block| {
         shade_block(&scene, &mut block);
     });
