@@ -144,15 +144,15 @@ impl RayPacket {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::Vec3;
 
     use super::super::{Accel, DiskInstance, PlaneInstance, Primitives, SphereInstance};
     use super::*;
 
-    /// A bumpy sheet of triangles with spheres above it (enough primitives for the tree), and
-    /// `disks` and `planes`.
-    fn scene(disks: Vec<DiskInstance>, planes: Vec<PlaneInstance>) -> Accel {
+    /// A bumpy sheet of 40 x 40 quads, two triangles each, around z = 0; with `roof`, a
+    /// checkerboard of quads at that height above it, which shades about half of the sheet.
+    pub(in crate::accel) fn bumpy_sheet(roof: Option<f32>) -> Vec<[Vec3; 3]> {
         let height = |x: usize, y: usize| ((x * 7 + y * 13) % 5) as f32 * 0.05;
         let vertex = |x: usize, y: usize| {
             Vec3::new(x as f32 * 0.1 - 2.0, y as f32 * 0.1 - 2.0, height(x, y))
@@ -160,15 +160,24 @@ mod tests {
         let mut triangles = Vec::new();
         for y in 0..40 {
             for x in 0..40 {
-                let [a, b, c, d] = [
-                    vertex(x, y),
-                    vertex(x + 1, y),
-                    vertex(x, y + 1),
-                    vertex(x + 1, y + 1),
-                ];
+                let [a, b, c, d] =
+                    [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)].map(|(x, y)| vertex(x, y));
                 triangles.extend([[a, b, d], [a, d, c]]);
+                if let Some(z) = roof
+                    && (x + y) % 2 == 0
+                {
+                    let [a, b, c, d] = [a, b, c, d].map(|v| Vec3::new(v.x, v.y, z));
+                    triangles.extend([[a, b, d], [a, d, c]]);
+                }
             }
         }
+        triangles
+    }
+
+    /// A bumpy sheet of triangles with spheres above it (enough primitives for the tree), and
+    /// `disks` and `planes`.
+    fn scene(disks: Vec<DiskInstance>, planes: Vec<PlaneInstance>) -> Accel {
+        let triangles = bumpy_sheet(None);
         let spheres = (0..10)
             .map(|i| SphereInstance {
                 object_to_world: glam::Affine3A::from_translation(Vec3::new(

@@ -179,29 +179,14 @@ mod tests {
     use glam::{Affine3A, Quat, Vec3};
 
     use super::super::SphereInstance;
+    use super::super::packet::tests::bumpy_sheet;
     use super::super::{Accel, DiskInstance, PassThrough, PlaneInstance, Primitives};
     use super::*;
 
     /// A bumpy sheet of triangles on z ≈ 0 with spheres and a checkerboard roof above it
     /// (enough primitives for the tree), and `disks` and `planes`.
     fn scene(disks: Vec<DiskInstance>, planes: Vec<PlaneInstance>) -> Accel {
-        let height = |x: usize, y: usize| ((x * 7 + y * 13) % 5) as f32 * 0.05;
-        let vertex = |x: usize, y: usize| {
-            Vec3::new(x as f32 * 0.1 - 2.0, y as f32 * 0.1 - 2.0, height(x, y))
-        };
-        let mut triangles = Vec::new();
-        for y in 0..40 {
-            for x in 0..40 {
-                let [a, b, c, d] =
-                    [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)].map(|(x, y)| vertex(x, y));
-                triangles.extend([[a, b, d], [a, d, c]]);
-                // A checkerboard roof at z = 1.2, which shades about half of the sheet.
-                if (x + y) % 2 == 0 {
-                    let [a, b, c, d] = [a, b, c, d].map(|v| Vec3::new(v.x, v.y, 1.2));
-                    triangles.extend([[a, b, d], [a, d, c]]);
-                }
-            }
-        }
+        let triangles = bumpy_sheet(Some(1.2));
         let spheres = (0..12)
             .map(|i| SphereInstance {
                 object_to_world: Affine3A::from_translation(Vec3::new(
