@@ -185,19 +185,35 @@ impl Slabs {
     /// practical purpose.
     #[inline(always)]
     fn new(dir: Vec3A) -> Slabs {
-        // All three components at once (no branch per axis): the magnitude raised to the
-        // smallest normal float, the sign kept, so -0 becomes -MIN_POSITIVE and its slab is
-        // entered from the upper bound.
-        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
-        let inv_dir = dir.abs().max(tiny).copysign(dir).recip();
-        let negative = inv_dir.is_negative_bitmask() as usize;
-        let offset = |axis: usize, side: usize| (2 * axis + side) * size_of::<Vec4>();
+        let inv_dir = finite_reciprocal(dir);
+        let (near, far) = slab_planes(inv_dir.is_negative_bitmask());
         Slabs {
             inv_dir4: [0, 1, 2].map(|axis| Vec4::splat(inv_dir[axis])),
-            near: [0, 1, 2].map(|axis| offset(axis, negative >> axis & 1)),
-            far: [0, 1, 2].map(|axis| offset(axis, 1 - (negative >> axis & 1))),
+            near,
+            far,
         }
     }
+}
+
+/// `1 / dir` with each component's magnitude first raised to the smallest normal float, the
+/// sign kept ([`Slabs::new`] says why), all three at once (no branch per axis): -0 becomes
+/// -MIN_POSITIVE, and its slab is entered from the upper bound.
+#[inline(always)]
+pub(super) fn finite_reciprocal(dir: Vec3A) -> Vec3A {
+    let tiny = Vec3A::splat(f32::MIN_POSITIVE);
+    dir.abs().max(tiny).copysign(dir).recip()
+}
+
+/// For directions with the sign bits `negative` (bit `axis` set for a negative component),
+/// per axis the byte offset in a node's `bounds` of the plane a ray enters the slab through,
+/// and of the one it leaves through: the upper bound first where the component is negative.
+#[inline(always)]
+pub(super) fn slab_planes(negative: u32) -> ([usize; 3], [usize; 3]) {
+    let offset = |axis: usize, side: u32| (2 * axis + side as usize) * size_of::<Vec4>();
+    (
+        [0, 1, 2].map(|axis| offset(axis, negative >> axis & 1)),
+        [0, 1, 2].map(|axis| offset(axis, 1 - (negative >> axis & 1))),
+    )
 }
 
 /// What the build reports about the tree's shape.
@@ -286,23 +302,6 @@ impl Bvh {
         // uninitialised: zeroing 1.5 KiB per ray costs as much as a small scene's traversal.
         let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK_SIZE];
         let mut depth = 0;
-        // Pushes a child to visit later. Nearly every node of a large tree misses the caches:
-        // its loading starts now, to overlap the work on the children visited before it.
-        let push = |stack: &mut [MaybeUninit<(u32, f32)>], depth: &mut usize, item: (u32, f32)| {
-            if item.0 & LEAF == 0 {
-                prefetch(
-                    self.nodes.as_ptr().wrapping_add(item.0 as usize),
-                    NODE_LINES,
-                );
-            } else {
-                prefetch_leaf(item.0 & !LEAF);
-            }
-            // SAFETY: at most 3 entries wait per level of a tree at most 63 levels deep (see
-            // `SAH_DEPTH_LIMIT`), so `*depth < STACK_SIZE`.
-            debug_assert!(*depth < STACK_SIZE);
-            unsafe { stack.get_unchecked_mut(*depth).write(item) };
-            *depth += 1;
-        };
         loop {
             if current & LEAF == 0 {
                 // SAFETY: every interior child word was written by `collapse` as the index of
@@ -333,7 +332,7 @@ impl Bvh {
                         } else {
                             (first, second)
                         };
-                        push(&mut stack, &mut depth, later);
+                        self.push_child(&mut stack, &mut depth, later.0, later, &prefetch_leaf);
                         current = visit.0;
                         continue;
                     }
@@ -349,7 +348,7 @@ impl Bvh {
                         sort_farthest_first(&mut entered[..count], |item| item.1);
                     }
                     for &item in &entered[..count - 1] {
-                        push(&mut stack, &mut depth, item);
+                        self.push_child(&mut stack, &mut depth, item.0, item, &prefetch_leaf);
                     }
                     current = entered[count - 1].0;
                     continue;
@@ -379,6 +378,33 @@ impl Bvh {
 /// entered it and their entry distances.
 #[cfg(target_arch = "x86_64")]
 type PacketEntry = (u32, u32, std::arch::x86_64::__m256);
+
+impl Bvh {
+    /// Pushes `item`, the traversal's record of child word `child`, on a traversal stack to
+    /// visit later. Nearly every node of a large tree misses the caches: its loading (or the
+    /// leaf's, through `prefetch_leaf`) starts now, to overlap the work on the children
+    /// visited before it.
+    #[inline(always)]
+    fn push_child<T>(
+        &self,
+        stack: &mut [MaybeUninit<T>],
+        depth: &mut usize,
+        child: u32,
+        item: T,
+        prefetch_leaf: &impl Fn(u32),
+    ) {
+        if child & LEAF == 0 {
+            prefetch(self.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
+        } else {
+            prefetch_leaf(child & !LEAF);
+        }
+        // SAFETY: at most 3 entries wait per level of a tree at most 63 levels deep (see
+        // `SAH_DEPTH_LIMIT`), so `*depth < STACK_SIZE`.
+        debug_assert!(*depth < STACK_SIZE);
+        unsafe { stack.get_unchecked_mut(*depth).write(item) };
+        *depth += 1;
+    }
+}
 
 impl Bvh {
     /// [`Bvh::traverse`] (nearest first) for the rays of `packet` set in `active`, together:
@@ -435,15 +461,8 @@ impl Bvh {
                     // All but the nearest wait on the stack.
                     sort_farthest_first(&mut entered[..count], |item| item.3);
                     for &(child, mask, near, _) in &entered[..count - 1] {
-                        if child & LEAF == 0 {
-                            prefetch(self.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
-                        } else {
-                            prefetch_leaf(child & !LEAF);
-                        }
-                        // SAFETY: as in `traverse`'s `push`.
-                        debug_assert!(depth < STACK_SIZE);
-                        unsafe { stack.get_unchecked_mut(depth).write((child, mask, near)) };
-                        depth += 1;
+                        let item = (child, mask, near);
+                        self.push_child(&mut stack, &mut depth, child, item, &prefetch_leaf);
                     }
                     (current, rays) = (entered[count - 1].0, entered[count - 1].1);
                     continue;
@@ -523,15 +542,8 @@ impl Bvh {
                 if count > 0 {
                     // The first entered is visited now, the others wait, the second on top.
                     for &(child, mask) in entered[1..count].iter().rev() {
-                        if child & LEAF == 0 {
-                            prefetch(self.nodes.as_ptr().wrapping_add(child as usize), NODE_LINES);
-                        } else {
-                            prefetch_leaf(child & !LEAF);
-                        }
-                        // SAFETY: as in `traverse`'s `push`.
-                        debug_assert!(depth < STACK_SIZE);
-                        unsafe { stack.get_unchecked_mut(depth).write((child, mask)) };
-                        depth += 1;
+                        let item = (child, mask);
+                        self.push_child(&mut stack, &mut depth, child, item, &prefetch_leaf);
                     }
                     (current, rays) = entered[0];
                     continue;

@@ -431,22 +431,15 @@ impl Accel {
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
-        (occluded.par_chunks_mut(BATCH_CHUNK))
-            .zip(origins.par_chunks(BATCH_CHUNK))
-            .zip(dirs.par_chunks(BATCH_CHUNK))
-            .zip(t_maxs.par_chunks(BATCH_CHUNK))
-            .for_each(|(((occluded, origins), dirs), t_maxs)| {
-                let rays = (origins, dirs, t_maxs);
-                self.any_hits_chunk(rays, t_min, None, pass_through, occluded)
-            });
+        self.any_hits_strided(origins, dirs, t_min, t_maxs, None, pass_through, occluded);
     }
 
-    /// [`Accel::any_hits`] for a batch whose rays `stride` apart run side by side (a shadow
-    /// batch with `stride` rays per path, one per light: the rays of neighbouring paths to one
-    /// light), which are traced as packets where they are coherent enough
-    /// ([`shadow_packet`]). The results are the single queries' whatever the stride. Not for
-    /// incoherent batches (a path tracer's, whose neighbouring rays go to lights drawn at
-    /// random): their short packets cost more than single rays.
+    /// [`Accel::any_hits`]; with a `stride`, for a batch whose rays `stride` apart run side by
+    /// side (a shadow batch with `stride` rays per path, one per light: the rays of
+    /// neighbouring paths to one light), which are traced as packets where they are coherent
+    /// enough ([`shadow_packet`]). The results are the single queries' whatever the stride.
+    /// No stride for incoherent batches (a path tracer's, whose neighbouring rays go to lights
+    /// drawn at random): their short packets cost more than single rays.
     #[allow(clippy::too_many_arguments)]
     pub fn any_hits_strided(
         &self,
@@ -454,29 +447,24 @@ impl Accel {
         dirs: &[Vec3],
         t_min: f32,
         t_maxs: &[f32],
-        stride: usize,
+        stride: Option<usize>,
         pass_through: Option<&PassThrough>,
         occluded: &mut [bool],
     ) {
-        let stride = stride.max(1);
-        let chunk = BATCH_CHUNK * stride;
+        let stride = stride.map(|stride| stride.max(1));
+        // A chunk holds whole groups of `stride` rays, so that each of its runs is one light's.
+        let chunk = BATCH_CHUNK * stride.unwrap_or(1);
         (occluded.par_chunks_mut(chunk))
             .zip(origins.par_chunks(chunk))
             .zip(dirs.par_chunks(chunk))
             .zip(t_maxs.par_chunks(chunk))
             .for_each(|(((occluded, origins), dirs), t_maxs)| {
-                self.any_hits_chunk(
-                    (origins, dirs, t_maxs),
-                    t_min,
-                    Some(stride),
-                    pass_through,
-                    occluded,
-                )
+                let rays = (origins, dirs, t_maxs);
+                self.any_hits_chunk(rays, t_min, stride, pass_through, occluded)
             });
     }
 
-    /// One rayon task of [`Accel::any_hits`], as [`Accel::closest_hits_chunk`]; with a
-    /// `stride`, of [`Accel::any_hits_strided`].
+    /// One rayon task of [`Accel::any_hits_strided`], as [`Accel::closest_hits_chunk`].
     #[inline(never)]
     fn any_hits_chunk(
         &self,

@@ -21,7 +21,7 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS};
+use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocal, slab_planes};
 
 /// Rays per packet: the lanes of one AVX register.
 pub(crate) const PACKET_SIZE: usize = 8;
@@ -70,20 +70,18 @@ impl RayPacket {
     /// The packet of `dirs` (1 to [`PACKET_SIZE`] of them, a [`coherent_run`]) from `origin`.
     #[inline(always)]
     pub fn new(origin: Vec3, dirs: &[Vec3]) -> RayPacket {
-        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
         let mut all = [Vec3A::from(dirs[0]); PACKET_SIZE];
         let mut inv = [[0.0f32; PACKET_SIZE]; 3];
         for (lane, dir) in all.iter_mut().enumerate() {
             if let Some(&d) = dirs.get(lane) {
                 *dir = d.into();
             }
-            let inv_dir = dir.abs().max(tiny).copysign(*dir).recip();
+            let inv_dir = finite_reciprocal(*dir);
             for axis in 0..3 {
                 inv[axis][lane] = inv_dir[axis];
             }
         }
-        let negative = Vec3A::from(dirs[0]).is_negative_bitmask() as usize;
-        let offset = |axis: usize, side: usize| (2 * axis + side) * size_of::<Vec4>();
+        let (near, far) = slab_planes(Vec3A::from(dirs[0]).is_negative_bitmask());
         let origin = Vec3A::from(origin);
         RayPacket {
             origin,
@@ -91,8 +89,8 @@ impl RayPacket {
             dirs: all,
             // SAFETY: see the module's documentation.
             inv_dir: inv.map(|lanes| unsafe { _mm256_loadu_ps(lanes.as_ptr()) }),
-            near: [0, 1, 2].map(|axis| offset(axis, negative >> axis & 1)),
-            far: [0, 1, 2].map(|axis| offset(axis, 1 - (negative >> axis & 1))),
+            near,
+            far,
         }
     }
 

@@ -22,7 +22,7 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS};
+use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocal, slab_planes};
 use super::packet::PACKET_SIZE;
 
 /// Two rays share a packet only if their origins, and the ends of their ranges, are closer to
@@ -93,7 +93,6 @@ impl ShadowPacket {
         dirs: &[Vec3],
         indices: impl Iterator<Item = usize>,
     ) -> ShadowPacket {
-        let tiny = Vec3A::splat(f32::MIN_POSITIVE);
         let mut packet_origins = [Vec3A::ZERO; PACKET_SIZE];
         let mut packet_dirs = [Vec3A::ZERO; PACKET_SIZE];
         let mut count = 0;
@@ -109,22 +108,21 @@ impl ShadowPacket {
         let mut inv = [[0.0f32; PACKET_SIZE]; 3];
         for lane in 0..PACKET_SIZE {
             let dir = packet_dirs[lane];
-            let inv_dir = dir.abs().max(tiny).copysign(dir).recip();
+            let inv_dir = finite_reciprocal(dir);
             for axis in 0..3 {
                 o[axis][lane] = packet_origins[lane][axis];
                 inv[axis][lane] = inv_dir[axis];
             }
         }
-        let negative = packet_dirs[0].is_negative_bitmask() as usize;
-        let offset = |axis: usize, side: usize| (2 * axis + side) * size_of::<Vec4>();
+        let (near, far) = slab_planes(packet_dirs[0].is_negative_bitmask());
         ShadowPacket {
             origins: packet_origins,
             dirs: packet_dirs,
             // SAFETY: see the module's documentation.
             origin: o.map(|lanes| unsafe { _mm256_loadu_ps(lanes.as_ptr()) }),
             inv_dir: inv.map(|lanes| unsafe { _mm256_loadu_ps(lanes.as_ptr()) }),
-            near: [0, 1, 2].map(|axis| offset(axis, negative >> axis & 1)),
-            far: [0, 1, 2].map(|axis| offset(axis, 1 - (negative >> axis & 1))),
+            near,
+            far,
         }
     }
 
@@ -282,7 +280,7 @@ mod tests {
                     &dirs,
                     0.0,
                     &t_maxs,
-                    2,
+                    Some(2),
                     pass_through,
                     &mut occluded,
                 );

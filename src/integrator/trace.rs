@@ -36,19 +36,9 @@ pub fn trace_shadow_rays(geometry: Res<SceneGeometry>, mut shadows: ResMut<Shado
     let pass_through = geometry.pass_through.as_ref();
     let (origins, dirs, t_maxs) = (&shadows.origin, &shadows.direction, &shadows.t_max);
     // Empty slots have t_max 0 and are skipped; invisible surfaces let the light through.
-    if shadows.slot_per_light {
-        // Rays `rays_per_path` apart go to the same light from neighbouring paths.
-        let stride = shadows.rays_per_path;
-        let occluded = &mut shadows.occluded;
-        accel.any_hits_strided(origins, dirs, 0.0, t_maxs, stride, pass_through, occluded);
-    } else {
-        accel.any_hits(
-            origins,
-            dirs,
-            0.0,
-            t_maxs,
-            pass_through,
-            &mut shadows.occluded,
-        );
-    }
+    // With a slot per light, rays `rays_per_path` apart go to the same light from
+    // neighbouring paths.
+    let stride = shadows.slot_per_light.then_some(shadows.rays_per_path);
+    let occluded = &mut shadows.occluded;
+    accel.any_hits_strided(origins, dirs, 0.0, t_maxs, stride, pass_through, occluded);
 }
