@@ -229,7 +229,7 @@ impl Environment {
     /// with `allowIncompletePDF`): BSDF sampling already covers the dim sky well, so light
     /// samples are better spent on what stands out. Unbiased as long as BSDF sampling covers
     /// every direction light sampling now misses, which holds where MIS is used (non-delta
-    /// BSDFs; `tests/bsdf_sampling_coverage.rs` checks each kind); `pdf_for_mis` is the matching
+    /// BSDFs; `tests/bsdf_sampling_coverage.rs` checks each kind); `pdf_for_mis_of` is the matching
     /// density for the BSDF sample's MIS weight.
     ///
     /// A constant sky less its mean is nothing: no sample, density 0 everywhere (pbrt-v4's
@@ -280,33 +280,22 @@ impl Environment {
         self.pdf_from(direction, false)
     }
 
-    /// Solid-angle density of `sample_for_mis` choosing `direction`.
-    pub fn pdf_for_mis(&self, direction: Vec3) -> f32 {
-        self.pdf_for_mis_of(&self.look_up_point(direction))
-    }
-
     /// Solid-angle density of `sample_for_mis` choosing the direction of `lookup`.
     pub fn pdf_for_mis_of(&self, lookup: &SkyLookup) -> f32 {
         if self.is_constant() {
             return 0.0;
         }
-        self.pdf_at(lookup, true)
+        self.pdf_at(lookup.point, true)
     }
 
     fn pdf_from(&self, direction: Vec3, compensated: bool) -> f32 {
-        self.pdf_at(&self.look_up_point(direction), compensated)
+        let point = self.map.as_ref().map(|map| map.point_of(direction));
+        self.pdf_at(point, compensated)
     }
 
-    /// `direction`'s point on the map, without the radiance there.
-    fn look_up_point(&self, direction: Vec3) -> SkyLookup {
-        SkyLookup {
-            radiance: Vec3::ZERO,
-            point: self.map.as_ref().map(|map| map.point_of(direction)),
-        }
-    }
-
-    fn pdf_at(&self, lookup: &SkyLookup, compensated: bool) -> f32 {
-        match (&self.map, lookup.point) {
+    /// The density at a direction's `point` on the map (none for a constant sky).
+    fn pdf_at(&self, point: Option<MapPoint>, compensated: bool) -> f32 {
+        match (&self.map, point) {
             (Some(map), Some(point)) => {
                 let sin_theta = (1.0 - point.cos_theta * point.cos_theta).max(0.0).sqrt();
                 if sin_theta <= 0.0 {
@@ -516,7 +505,7 @@ mod tests {
 
     /// MIS compensation keeps the estimator unbiased: irradiance at a point under the banded
     /// sky, by light samples from `sample_for_mis` and cosine-weighted BSDF samples combined
-    /// with the power heuristic (each weighted with the other's density, `pdf_for_mis` for the
+    /// with the power heuristic (each weighted with the other's density, `pdf_for_mis_of` for the
     /// light), against the integral by quadrature. The light density is zero over the grey sky
     /// (below the mean), which BSDF sampling alone then covers with weight 1.
     #[test]
@@ -556,9 +545,10 @@ mod tests {
                 let wi = frame.to_world(cosine_hemisphere(rng.next_2d()));
                 let bsdf_pdf = wi.dot(normal) / PI;
                 if bsdf_pdf > 0.0 {
-                    let weight = power_heuristic(1, bsdf_pdf, 1, sky.pdf_for_mis(wi));
+                    let seen = sky.look_up(wi);
+                    let weight = power_heuristic(1, bsdf_pdf, 1, sky.pdf_for_mis_of(&seen));
                     // f cos / pdf = 1 for a white diffuse surface.
-                    total += luminance(sky.radiance(wi)) * weight;
+                    total += luminance(seen.radiance) * weight;
                 }
                 f64::from(total)
             })
