@@ -340,14 +340,7 @@ impl Bsdf {
                 reflectance,
                 transmittance,
                 eta,
-            } => checked_sample(
-                Dielectric {
-                    reflectance,
-                    transmittance,
-                    eta,
-                }
-                .sample(wo, canonical(uc)),
-            ),
+            } => sample_dielectric(reflectance, transmittance, eta, wo, uc),
             _ => self.sample_canonical(wo, u, uc),
         }
     }
@@ -364,12 +357,7 @@ impl Bsdf {
                 reflectance,
                 transmittance,
                 eta,
-            } => Dielectric {
-                reflectance,
-                transmittance,
-                eta,
-            }
-            .sample(wo, canonical(uc)),
+            } => return sample_dielectric(reflectance, transmittance, eta, wo, uc),
             Bsdf::Conductor {
                 f0,
                 alpha_x,
@@ -490,6 +478,23 @@ fn sample_lambertian(reflectance: Vec3, wo: Vec3, u: Vec2) -> Option<BsdfSample>
     Lambertian { reflectance }
         .sample(wo, u)
         .filter(|s| s.f.is_finite())
+}
+
+/// Smooth glass's sample, checked as [`Bsdf::sample`] checks every sample but the Lambertian's.
+#[inline(always)]
+fn sample_dielectric(
+    reflectance: Vec3,
+    transmittance: Vec3,
+    eta: f32,
+    wo: Vec3,
+    uc: f32,
+) -> Option<BsdfSample> {
+    let glass = Dielectric {
+        reflectance,
+        transmittance,
+        eta,
+    };
+    checked_sample(glass.sample(wo, canonical(uc)))
 }
 
 /// LuxRender's metals: GGX with height-correlated masking.
