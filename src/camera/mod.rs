@@ -294,12 +294,16 @@ pub(super) fn lanes_to_world(pose: Affine3A, direction: &Lanes3) -> [Vec3; LANES
     }
     for k in 0..LANES {
         let rcp = 1.0 / (x[k] * x[k] + y[k] * y[k] + z[k] * z[k]).sqrt();
-        // Finite and positive, 0 < rcp < inf (false for NaN), as two compares without a
-        // branch, so that the lanes stay together.
-        let normal = (rcp > 0.0) & (rcp < f32::INFINITY);
-        x[k] = if normal { x[k] * rcp } else { 0.0 };
-        y[k] = if normal { y[k] * rcp } else { 0.0 };
-        z[k] = if normal { z[k] * rcp } else { 0.0 };
+        // Finite and positive, 0 < rcp < inf (false for NaN): as an i32, the bits of such a
+        // float lie in 1..=0x7f7f_ffff (the sign bit clear, the exponent not all ones). Two
+        // integer compares and a bit mask (all ones or +0) rather than float compares and a
+        // choice, so that the lanes stay in vector registers.
+        let bits = rcp.to_bits() as i32;
+        let normal = (bits > 0) & (bits < f32::INFINITY.to_bits() as i32);
+        let mask = u32::from(normal).wrapping_neg();
+        x[k] = f32::from_bits((x[k] * rcp).to_bits() & mask);
+        y[k] = f32::from_bits((y[k] * rcp).to_bits() & mask);
+        z[k] = f32::from_bits((z[k] * rcp).to_bits() & mask);
     }
     std::array::from_fn(|k| Vec3::new(x[k], y[k], z[k]))
 }
