@@ -190,15 +190,35 @@ impl CameraRays<'_, '_> {
     /// (the same value: the linear part times 0 adds only zeros).
     pub fn generate_from_centre(&mut self, direction: impl Fn(Vec2) -> Vec3 + Sync) {
         match *self.space {
-            GeneratedRaySpace::Camera => {
-                write_camera_rays(&mut self.batch, |film| Some((Vec3::ZERO, direction(film))))
-            }
+            GeneratedRaySpace::Camera => write_camera_rays_from_centre(&mut self.batch, direction),
             GeneratedRaySpace::World => {
                 write_world_rays_from_centre(&mut self.batch, self.pose.0, direction)
             }
         }
     }
 }
+
+/// Rays traced from the camera's centre, camera space (a lens stage moves them): origin 0 and
+/// `direction`'s direction, block by block (a fill and a loop the compiler takes across vector
+/// lanes) rather than zipped path by path.
+fn write_camera_rays_from_centre(batch: &mut PathBatch, direction: impl Fn(Vec2) -> Vec3 + Sync) {
+    let n = batch.len;
+    (
+        batch.film_position[..n].par_chunks(BLOCK),
+        batch.origin[..n].par_chunks_mut(BLOCK),
+        batch.direction[..n].par_chunks_mut(BLOCK),
+    )
+        .into_par_iter()
+        .for_each(|(films, origins, directions)| {
+            origins.fill(Vec3::ZERO);
+            for (film, camera) in films.iter().zip(directions) {
+                *camera = direction(*film);
+            }
+        });
+}
+
+/// Rays per task of [`write_camera_rays_from_centre`].
+const BLOCK: usize = 1024;
 
 /// Rays traced from the camera's centre, world space, [`CameraRays::generate_from_centre`]'s
 /// `direction` moved to world space: `LANES` rays at a time, each step of the transform and the
@@ -236,23 +256,35 @@ fn write_world_rays_from_centre(
         });
 }
 
-/// Rays per group of [`write_world_rays_from_centre`]: eight f32 lanes of AVX2.
-const LANES: usize = 8;
+/// Rays per group of the camera stages' lane kernels: eight f32 lanes of AVX2.
+pub(super) const LANES: usize = 8;
+
+/// `LANES` 3-vectors, one array per component (x, y, z).
+pub(super) type Lanes3 = [[f32; LANES]; 3];
 
 /// [`direction_to_world`] of the camera-space directions `direction` gives for `LANES` film
-/// positions, component by component: glam's `transform_vector3` is x_axis d.x + y_axis d.y +
-/// z_axis d.z summed left to right, and `normalize_or_zero` multiplies by 1 / sqrt((x x + y y) +
-/// z z) when that is finite and positive, else gives zero.
+/// positions.
 #[inline(always)]
 fn directions_to_world(
     pose: Affine3A,
     films: &[Vec2; LANES],
     direction: impl Fn(Vec2) -> Vec3,
 ) -> [Vec3; LANES] {
-    let (mut dx, mut dy, mut dz) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+    let mut camera: Lanes3 = [[0.0; LANES]; 3];
     for (k, &film) in films.iter().enumerate() {
-        [dx[k], dy[k], dz[k]] = direction(film).to_array();
+        [camera[0][k], camera[1][k], camera[2][k]] = direction(film).to_array();
     }
+    lanes_to_world(pose, &camera)
+}
+
+/// [`direction_to_world`] of `LANES` camera-space directions, each step done for all of them
+/// before the next, so that the compiler takes it across the lanes of vector registers (the
+/// same operations in the same order, so the same values): glam's `transform_vector3` is
+/// x_axis d.x + y_axis d.y + z_axis d.z summed left to right, and `normalize_or_zero`
+/// multiplies by 1 / sqrt((x x + y y) + z z) when that is finite and positive, else gives zero.
+#[inline(always)]
+pub(super) fn lanes_to_world(pose: Affine3A, direction: &Lanes3) -> [Vec3; LANES] {
+    let [dx, dy, dz] = direction;
     let m = pose.matrix3;
     let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
     for k in 0..LANES {
@@ -262,12 +294,31 @@ fn directions_to_world(
     }
     for k in 0..LANES {
         let rcp = 1.0 / (x[k] * x[k] + y[k] * y[k] + z[k] * z[k]).sqrt();
-        // Finite and positive, 0 < rcp < inf (false for NaN), as two compares without a
-        // branch, so that the lanes stay together.
-        let normal = (rcp > 0.0) & (rcp < f32::INFINITY);
-        x[k] = if normal { x[k] * rcp } else { 0.0 };
-        y[k] = if normal { y[k] * rcp } else { 0.0 };
-        z[k] = if normal { z[k] * rcp } else { 0.0 };
+        // Finite and positive, 0 < rcp < inf (false for NaN): as an i32, the bits of such a
+        // float lie in 1..=0x7f7f_ffff (the sign bit clear, the exponent not all ones). Two
+        // integer compares and a bit mask (all ones or +0) rather than float compares and a
+        // choice, so that the lanes stay in vector registers.
+        let bits = rcp.to_bits() as i32;
+        let normal = (bits > 0) & (bits < f32::INFINITY.to_bits() as i32);
+        let mask = u32::from(normal).wrapping_neg();
+        x[k] = f32::from_bits((x[k] * rcp).to_bits() & mask);
+        y[k] = f32::from_bits((y[k] * rcp).to_bits() & mask);
+        z[k] = f32::from_bits((z[k] * rcp).to_bits() & mask);
+    }
+    std::array::from_fn(|k| Vec3::new(x[k], y[k], z[k]))
+}
+
+/// `pose.transform_point3` of `LANES` camera-space points, component by component (the same
+/// values): glam sums ((x_axis p.x + y_axis p.y) + z_axis p.z) + translation.
+#[inline(always)]
+pub(super) fn points_to_world(pose: Affine3A, point: &Lanes3) -> [Vec3; LANES] {
+    let [px, py, pz] = point;
+    let (m, t) = (pose.matrix3, pose.translation);
+    let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+    for k in 0..LANES {
+        x[k] = m.x_axis.x * px[k] + m.y_axis.x * py[k] + m.z_axis.x * pz[k] + t.x;
+        y[k] = m.x_axis.y * px[k] + m.y_axis.y * py[k] + m.z_axis.y * pz[k] + t.y;
+        z[k] = m.x_axis.z * px[k] + m.y_axis.z * py[k] + m.z_axis.z * pz[k] + t.z;
     }
     std::array::from_fn(|k| Vec3::new(x[k], y[k], z[k]))
 }
