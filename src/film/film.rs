@@ -121,19 +121,31 @@ struct AxisFootprint {
     weights: [f32; MAX_FOOTPRINT],
 }
 
-/// A pixel's weighted radiance sums and weight sum, (sum w r, sum w g, sum w b, sum w): side by
-/// side, so that a sample adds (r, g, b, 1) w to it in one 4-lane step.
+/// A pixel's weighted radiance sums and weight sum, (sum w r, sum w g, sum w b, sum w).
 type WeightedSum = [f64; 4];
+/// The same sums over one pass, in f32, side by side so that a sample adds (r, g, b, 1) w to
+/// them in one 4-lane step.
+type PassSum = [f32; 4];
 
 /// Weighted radiance sums and weight sums per pixel, rows from the top.
 ///
-/// Sums are f64: after 1e5 samples of similar magnitude an f32 sum would keep only ~7 of its
-/// 24 bits for each new sample; f64 keeps ~36.
+/// When splatting, a pass's samples are summed in f32 and each pass's sums folded into f64 sums
+/// when the next pass begins ([`Film::begin_pass`]); otherwise a sample adds to its pixel's f64
+/// sums at once (one sample per pixel and pass: an f32 pass sum would round nothing). After 1e5 samples of similar magnitude an f32 sum would
+/// keep only ~7 of its 24 bits for each new sample; f64 keeps ~36. Within one pass a pixel gets
+/// a few contributions (one sample per pixel, over a footprint of k pixels: about k), so the
+/// f32 sum's relative error is at most about k 2^-24 of the sum of its terms' magnitudes
+/// (Higham, *Accuracy and Stability of Numerical Algorithms*, §4.2): 1e-6 for a 4x4 footprint,
+/// far below a pass's noise. Half the bytes per pixel to add to, and to cache, than f64.
 #[derive(Resource, Clone, Debug)]
 pub struct Film {
     width: u32,
     height: u32,
+    /// The sums of the passes before `pass`.
     sums: Vec<WeightedSum>,
+    /// The sums of pass `pass` so far (splatting only; zero otherwise).
+    pass_sums: Vec<PassSum>,
+    pass: u32,
     /// Samples whose film position lies in the pixel.
     counts: Vec<u64>,
     rejected: u64,
@@ -150,6 +162,8 @@ impl Film {
             width,
             height,
             sums: vec![[0.0; 4]; n],
+            pass_sums: vec![[0.0; 4]; n],
+            pass: 0,
             counts: vec![0; n],
             rejected: 0,
             splat: None,
@@ -204,6 +218,8 @@ impl Film {
             sums: (sums.iter().zip(weights))
                 .map(|(sum, weight)| sum.extend(weight).to_array())
                 .collect(),
+            pass_sums: vec![[0.0; 4]; n],
+            pass: 0,
             counts,
             rejected,
             splat: None,
@@ -213,11 +229,13 @@ impl Film {
 
     /// Takes `saved`'s sums, weights and counts (a checkpoint of a film of the same size),
     /// keeping this film's reconstruction; false, and nothing taken, if the sizes differ.
-    pub fn restore(&mut self, saved: Film) -> bool {
+    pub fn restore(&mut self, mut saved: Film) -> bool {
         if (saved.width, saved.height) != (self.width, self.height) {
             return false;
         }
+        saved.fold_pass();
         self.sums = saved.sums;
+        self.pass_sums = saved.pass_sums;
         self.counts = saved.counts;
         self.rejected = saved.rejected;
         true
@@ -225,13 +243,54 @@ impl Film {
 
     /// The weighted radiance sum of `pixel` (y * width + x; for checkpoints and parts).
     pub fn sum(&self, pixel: usize) -> DVec3 {
-        let [r, g, b, _] = self.sums[pixel];
+        let [r, g, b, _] = self.total(pixel);
         DVec3::new(r, g, b)
     }
 
     /// The weight sum of `pixel` (for checkpoints and parts).
     pub fn weight(&self, pixel: usize) -> f64 {
-        self.sums[pixel][3]
+        self.total(pixel)[3]
+    }
+
+    /// `pixel`'s sums over all passes: the earlier passes' and the current one's, added as
+    /// [`Film::fold_pass`] will add them.
+    fn total(&self, pixel: usize) -> WeightedSum {
+        let mut sum = self.sums[pixel];
+        fold(&mut sum, self.pass_sums[pixel]);
+        sum
+    }
+
+    /// Starts pass `pass` (a pass index; the film's first is 0): if it is not the pass the film
+    /// is in, that one's sums are folded into the f64 sums first. The sums are then the same
+    /// whatever the chunks and threads a pass is traced in.
+    pub fn begin_pass(&mut self, pass: u32) {
+        if pass != self.pass {
+            if self.splat.is_some() {
+                self.fold_pass();
+            }
+            self.pass = pass;
+        }
+    }
+
+    /// Adds the current pass's sums to the f64 sums and clears them.
+    fn fold_pass(&mut self) {
+        const PIXELS_PER_TASK: usize = 4096;
+        (
+            self.sums.par_chunks_mut(PIXELS_PER_TASK),
+            self.pass_sums.par_chunks_mut(PIXELS_PER_TASK),
+        )
+            .into_par_iter()
+            .for_each(|(sums, pass_sums)| {
+                with_avx2_if_present(
+                    #[inline(always)]
+                    || {
+                        for (sum, pass_sum) in sums.iter_mut().zip(pass_sums) {
+                            fold(sum, *pass_sum);
+                            *pass_sum = [0.0; 4];
+                        }
+                    },
+                )
+            });
     }
 
     /// Samples per pixel received (for checkpoints).
@@ -276,7 +335,13 @@ impl Film {
             || samples.len() < 2 * MIN_SAMPLES_PER_BAND
             || !in_pixel_order()
         {
-            let mut rows = FilmRows::new(0, width, &mut self.sums, &mut self.counts, max_component);
+            let mut rows = FilmRows::new(
+                0,
+                width,
+                (&mut self.sums, &mut self.pass_sums),
+                &mut self.counts,
+                max_component,
+            );
             let rejected = with_avx2_if_present(
                 #[inline(always)]
                 || {
@@ -322,14 +387,17 @@ impl Film {
             &samples[start..end.max(start)]
         };
         let range = first_row * width..end_row * width;
+        let band_pixels = band_rows * width;
         let rejected: u64 = (
-            self.sums[range.clone()].par_chunks_mut(band_rows * width),
-            self.counts[range].par_chunks_mut(band_rows * width),
+            self.sums[range.clone()].par_chunks_mut(band_pixels),
+            self.pass_sums[range.clone()].par_chunks_mut(band_pixels),
+            self.counts[range].par_chunks_mut(band_pixels),
         )
             .into_par_iter()
             .enumerate()
-            .map(|(band, (sums, counts))| {
+            .map(|(band, (sums, pass_sums, counts))| {
                 let first_row = first_row + band * band_rows;
+                let sums = (sums, pass_sums);
                 let mut rows = FilmRows::new(first_row, width, sums, counts, max_component);
                 with_avx2_if_present(
                     #[inline(always)]
@@ -348,9 +416,12 @@ impl Film {
 
     /// The estimate of every pixel (weighted sum over weight sum); black where nothing arrived.
     pub fn mean(&self) -> Vec<Vec3> {
-        self.sums
-            .par_iter()
-            .map(|&[r, g, b, weight]| {
+        (&self.sums, &self.pass_sums)
+            .into_par_iter()
+            .map(|(&sum, &pass_sum)| {
+                let mut total = sum;
+                fold(&mut total, pass_sum);
+                let [r, g, b, weight] = total;
                 if weight > 0.0 {
                     (DVec3::new(r, g, b) / weight).as_vec3()
                 } else {
@@ -392,6 +463,7 @@ struct FilmRows<'a> {
     rows: Range<usize>,
     pixels: Range<usize>,
     sums: &'a mut [WeightedSum],
+    pass_sums: &'a mut [PassSum],
     counts: &'a mut [u64],
     /// The film's `--clamp` limit on a sample's largest component.
     max_component: Option<f32>,
@@ -402,7 +474,7 @@ impl<'a> FilmRows<'a> {
     fn new(
         first_row: usize,
         width: usize,
-        sums: &'a mut [WeightedSum],
+        (sums, pass_sums): (&'a mut [WeightedSum], &'a mut [PassSum]),
         counts: &'a mut [u64],
         max_component: Option<f32>,
     ) -> Self {
@@ -411,6 +483,7 @@ impl<'a> FilmRows<'a> {
             pixels: rows.start * width..rows.end * width,
             rows,
             sums,
+            pass_sums,
             counts,
             max_component,
         }
@@ -447,11 +520,11 @@ impl<'a> FilmRows<'a> {
             _ => sample.radiance,
         };
         // (r, g, b, 1): times a weight w, the radiance and the weight a pixel adds.
-        let radiance = radiance.as_dvec3().extend(1.0).to_array();
+        let radiance = radiance.extend(1.0);
         match splat {
             None => {
                 if home {
-                    add_weighted(&mut self.sums[pixel - offset], radiance, 1.0);
+                    add_to_pixel(&mut self.sums[pixel - offset], radiance);
                 }
             }
             Some(filter) => {
@@ -477,13 +550,13 @@ impl<'a> FilmRows<'a> {
                     // without `add_to_row`'s loop and remainder.
                     let wx = Vec4::from_array(wx);
                     for (row, &fy) in wy.iter().enumerate() {
-                        let pixels = &mut self.sums[start + row * w..start + row * w + 4];
+                        let pixels = &mut self.pass_sums[start + row * w..start + row * w + 4];
                         add_to_four(pixels.try_into().unwrap(), wx, fy, radiance);
                     }
                     return true;
                 }
                 for (row, &fy) in wy.iter().enumerate() {
-                    let sums = &mut self.sums[start + row * w..start + row * w + wx.len()];
+                    let sums = &mut self.pass_sums[start + row * w..start + row * w + wx.len()];
                     add_to_row(sums, wx, fy, radiance);
                 }
             }
@@ -495,8 +568,8 @@ impl<'a> FilmRows<'a> {
 /// Runs `body` compiled for AVX2 if the CPU has it, else as compiled for the baseline (SSE2);
 /// `body` must be `#[inline(always)]` to be compiled into each version. The same operations on
 /// the same values either way (no FMA: Rust never fuses a product and a sum on its own), so the
-/// same bits; with AVX, a pixel's four f64 sums are one 256-bit add and VEX's three-operand
-/// forms save the copies. The film's own copy of `accel`'s dispatch, so that the two modules
+/// same bits; with AVX, two pixels' sums are one 256-bit add and VEX's three-operand forms save
+/// the copies. The film's own copy of `accel`'s dispatch, so that the two modules
 /// stay independent.
 #[inline(always)]
 fn with_avx2_if_present<R>(body: impl FnOnce() -> R) -> R {
@@ -515,10 +588,9 @@ fn with_avx2<R>(body: impl FnOnce() -> R) -> R {
 }
 
 /// Adds a sample's share to the pixels of one row of its footprint: to pixel i, (r, g, b, 1) w_i
-/// with w_i = f(dx_i, 0) f(0, dy) = `wx[i] * fy` (the product in f32, as one value alone).
-/// Four pixels at a time: their four weights in one f32 product, then 16 lanes of f64.
+/// with w_i = f(dx_i, 0) f(0, dy) = `wx[i] * fy`. Four pixels at a time, the rest one by one.
 #[inline(always)]
-fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedSum) {
+fn add_to_row(sums: &mut [PassSum], wx: &[f32], fy: f32, radiance: Vec4) {
     let mut pixels = sums.chunks_exact_mut(4);
     let mut weights = wx.chunks_exact(4);
     for (pixels, weights) in (&mut pixels).zip(&mut weights) {
@@ -530,49 +602,39 @@ fn add_to_row(sums: &mut [WeightedSum], wx: &[f32], fy: f32, radiance: WeightedS
         );
     }
     for (sum, &fx) in pixels.into_remainder().iter_mut().zip(weights.remainder()) {
-        add_weighted(sum, radiance, f64::from(fx * fy));
+        add_weighted(sum, radiance, fx * fy);
     }
 }
 
-/// Adds a sample's share to four pixels of a row: their four weights `wx * fy` in one f32
-/// product, then 16 lanes of f64.
+/// Adds a sample's share to four pixels of a row: their four weights `wx * fy` in one product,
+/// then the 16 sums as one run of lanes, lane 4 i + c adding radiance_c w_i (with AVX, two
+/// 8-lane products and sums; each lane one f32 product and one sum, as one pixel alone).
 #[inline(always)]
-fn add_to_four(pixels: &mut [WeightedSum; 4], wx: Vec4, fy: f32, radiance: WeightedSum) {
-    for (sum, w) in pixels.iter_mut().zip(widen(wx * fy)) {
-        add_weighted(sum, radiance, w);
+fn add_to_four(pixels: &mut [PassSum; 4], wx: Vec4, fy: f32, radiance: Vec4) {
+    let weights = (wx * fy).to_array();
+    let radiance = radiance.to_array();
+    for (lane, sum) in pixels.as_flattened_mut().iter_mut().enumerate() {
+        *sum += radiance[lane % 4] * weights[lane / 4];
     }
 }
 
-/// Four f32 lanes as f64 (exact). On x86-64 two packed conversions (one with AVX), where glam's
-/// `as_dvec4` takes each lane out and converts it alone.
+/// sum += radiance w, lane by lane.
 #[inline(always)]
-fn widen(values: Vec4) -> [f64; 4] {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{__m128, _mm_cvtps_pd, _mm_movehl_ps, _mm_storeu_pd};
-        let values = __m128::from(values);
-        let mut wide = [0.0; 4];
-        let (low, high) = wide.split_at_mut(2);
-        // SAFETY: the stores write two f64 each into two-element slices.
-        unsafe {
-            _mm_storeu_pd(low.as_mut_ptr(), _mm_cvtps_pd(values));
-            _mm_storeu_pd(
-                high.as_mut_ptr(),
-                _mm_cvtps_pd(_mm_movehl_ps(values, values)),
-            );
-        }
-        wide
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    values.as_dvec4().to_array()
+fn add_weighted(sum: &mut PassSum, radiance: Vec4, w: f32) {
+    *sum = (Vec4::from_array(*sum) + radiance * w).to_array();
 }
 
-/// sum += radiance w, lane by lane (each lane one product and one sum: the same roundings as
-/// three colour sums and a weight sum kept apart).
+/// sum += radiance with weight 1, each lane widened to f64 (exactly) and added.
 #[inline(always)]
-fn add_weighted(sum: &mut WeightedSum, radiance: WeightedSum, w: f64) {
-    for (sum, value) in sum.iter_mut().zip(radiance) {
-        *sum += value * w;
+fn add_to_pixel(sum: &mut WeightedSum, radiance: Vec4) {
+    fold(sum, radiance.to_array());
+}
+
+/// sum += pass_sum, each lane widened to f64 (exactly) and added.
+#[inline(always)]
+fn fold(sum: &mut WeightedSum, pass_sum: PassSum) {
+    for (sum, value) in sum.iter_mut().zip(pass_sum) {
+        *sum += f64::from(value);
     }
 }
 
@@ -705,6 +767,7 @@ mod tests {
                     pool.install(|| batches.iter().for_each(|b| film.add_samples(b)));
                     let case = format!("{filter:?}, {threads} threads");
                     assert_eq!(film.sums, serial.sums, "{case}");
+                    assert_eq!(film.pass_sums, serial.pass_sums, "{case}");
                     assert_eq!(film.counts, serial.counts, "{case}");
                     assert_eq!(film.rejected, serial.rejected, "{case}");
                 }
@@ -712,8 +775,9 @@ mod tests {
         }
     }
 
-    /// The one-pixel box skips the footprint: the same sums, weights and counts to the bit as
-    /// splatting it through the tabulated filter, for positions inside their pixels.
+    /// The one-pixel box skips the footprint (and the f32 pass sums): the same sums, weights and
+    /// counts to the bit as splatting it through the tabulated filter, for positions inside
+    /// their pixels.
     #[test]
     fn pixel_box_splats_as_its_own_pixel() {
         let (width, height) = (19, 11);
@@ -737,8 +801,13 @@ mod tests {
         assert!(fast.splat.is_none());
         let mut splatted = Film::new(width, height);
         splatted.splat = Some(SplatFilter::new(&PixelFilter::pixel_box()));
-        fast.add_samples(&samples);
-        splatted.add_samples(&samples);
+        // A pass per sample: the f32 pass sum is then the sample's radiance times 1, exact.
+        for (pass, sample) in (1..).zip(&samples) {
+            for film in [&mut fast, &mut splatted] {
+                film.add_samples(std::slice::from_ref(sample));
+                film.begin_pass(pass);
+            }
+        }
         assert_eq!(fast.sums, splatted.sums);
         assert_eq!(fast.counts, splatted.counts);
     }
@@ -794,18 +863,86 @@ mod tests {
         }
     }
 
+    /// Samples add to f64 sums, splatted ones through the passes' f32 sums: with f32 sums
+    /// throughout the mean would be off by about 0.1.
     #[test]
     fn film_keeps_precision_over_many_samples() {
-        // 1e5 samples alternating 1e3 and 1e-3 per pixel: exact mean 500.0005.
-        let mut film = Film::new(1, 1);
-        for i in 0..100_000 {
-            film.add_sample(
-                0,
-                Vec2::splat(0.5),
-                Vec3::splat(if i % 2 == 0 { 1e3 } else { 1e-3 }),
-            );
+        use crate::film::FilterKind;
+        let gaussian = PixelFilter::new(FilterKind::Gaussian { alpha: 2.0 }, Vec2::splat(2.0));
+        for filter in [PixelFilter::pixel_box(), gaussian] {
+            // 1e5 samples alternating 1e3 and 1e-3 per pixel, one pass each: exact mean
+            // 500.0005.
+            let mut film = Film::new(1, 1);
+            film.splat_with(filter);
+            for i in 0..100_000 {
+                film.begin_pass(i);
+                film.add_sample(
+                    0,
+                    Vec2::splat(0.5),
+                    Vec3::splat(if i % 2 == 0 { 1e3 } else { 1e-3 }),
+                );
+            }
+            let m = film.mean()[0].x;
+            assert!((m - 500.0005).abs() < 1e-4, "{m}");
         }
-        let m = film.mean()[0].x;
-        assert!((m - 500.0005).abs() < 1e-4, "{m}");
+    }
+
+    /// A pass's f32 sums against the same samples summed in f64: within the bound of recursive
+    /// summation, |error| <= (n - 1) u sum |terms| (Higham, §4.2; u = 2^-24, n the terms), with
+    /// n the most samples a pixel's footprint took (16 x 16 here: the f32 products of weight and
+    /// radiance add one rounding each, counted as a term more). Then the next pass's fold gives
+    /// the f64 sums those f32 sums: the total before the fold and after are the same bits.
+    #[test]
+    fn a_pass_in_f32_stays_within_its_rounding_bound() {
+        use crate::film::FilterKind;
+        let (width, height) = (23, 17);
+        let filter = PixelFilter::new(FilterKind::Gaussian { alpha: 2.0 }, Vec2::splat(2.0));
+        let tables = SplatFilter::new(&filter);
+        let mut rng = crate::sampling::PathRng::new(10, 11, 12);
+        let mut next = || rng.next_f32();
+        let mut film = Film::new(width, height);
+        film.splat_with(filter);
+        // The reference: every sample's terms in f64, and the sum of their magnitudes.
+        let n = (width * height) as usize;
+        let (mut exact, mut magnitude) = (vec![[0.0f64; 4]; n], vec![[0.0f64; 4]; n]);
+        for _ in 0..16 {
+            for pixel in 0..width * height {
+                let position = Vec2::new((pixel % width) as f32, (pixel / width) as f32)
+                    + Vec2::new(next(), next());
+                let radiance = Vec3::new(next(), next() * 1e3, next() * 1e-3);
+                film.add_sample(pixel, position, radiance);
+                let xs = tables.footprint(0, position.x, width);
+                let ys = tables.footprint(1, position.y, height);
+                for (j, &fy) in ys.weights[..ys.count].iter().enumerate() {
+                    for (i, &fx) in xs.weights[..xs.count].iter().enumerate() {
+                        let p = (ys.first + j) * width as usize + xs.first + i;
+                        let w = f64::from(fx) * f64::from(fy);
+                        for (c, value) in radiance.extend(1.0).to_array().into_iter().enumerate() {
+                            exact[p][c] += f64::from(value) * w;
+                            magnitude[p][c] += (f64::from(value) * w).abs();
+                        }
+                    }
+                }
+            }
+        }
+        let bound = |p: usize, c: usize| 256.0 * f64::from(f32::EPSILON) / 2.0 * magnitude[p][c];
+        let mut largest_error = 0.0f64;
+        for p in 0..n {
+            let total = film.total(p);
+            for c in 0..4 {
+                let error = (total[c] - exact[p][c]).abs();
+                assert!(
+                    error <= bound(p, c),
+                    "pixel {p} lane {c}: {error} > {}",
+                    bound(p, c)
+                );
+                largest_error = largest_error.max(error / magnitude[p][c]);
+            }
+        }
+        assert!(largest_error > 0.0, "the f32 sums round");
+        let before: Vec<WeightedSum> = (0..n).map(|p| film.total(p)).collect();
+        film.begin_pass(1);
+        assert_eq!(film.sums, before);
+        assert!(film.pass_sums.iter().all(|sum| *sum == [0.0; 4]));
     }
 }

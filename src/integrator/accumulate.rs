@@ -5,6 +5,7 @@ use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
 use super::batch::{PathBatch, ShadowBatch};
+use super::start_pass::PassIndex;
 use crate::film::Film;
 
 pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<ShadowBatch>) {
@@ -29,7 +30,14 @@ pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<Shadow
 /// Finished paths add their radiance to the film (one sample at their film position, in
 /// (bounce, slot) order, so the sums do not depend on the thread count; the film splats them in
 /// parallel over bands of rows, one bounce late, beside the next bounce's partition: see
-/// [`PathBatch::retire`]); the rest move to the front of the batch.
-pub fn retire_finished_paths(mut batch: ResMut<PathBatch>, mut film: ResMut<Film>) {
+/// [`PathBatch::retire`]), into the sums of their pass; the rest move to the front of the batch.
+pub fn retire_finished_paths(
+    mut batch: ResMut<PathBatch>,
+    mut film: ResMut<Film>,
+    pass: Res<PassIndex>,
+) {
+    // A chunk's last retire hands over all its samples, so every sample of earlier passes is
+    // in the film by now.
+    film.begin_pass(pass.0);
     batch.retire(|samples| film.add_samples(samples));
 }
