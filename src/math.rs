@@ -78,6 +78,20 @@ pub fn sin_cos_pi(x: f32) -> (f32, f32) {
     }
 }
 
+/// `v` scaled to unit length, or `fallback` when that is not finite and positive (`v` zero or
+/// not finite): glam's `Vec3::normalize_or` to the bit (the same reciprocal length and product),
+/// with its test `rcp.is_finite() && rcp > 0.0` as two float comparisons, which LLVM folds
+/// into a class test of two dozen integer instructions on x86-64 (`rcp <= f32::MAX` is not
+/// folded).
+pub fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    let rcp = 1.0 / v.length();
+    if rcp > 0.0 && rcp <= f32::MAX {
+        v * rcp
+    } else {
+        fallback
+    }
+}
+
 /// Moves a ray origin off a surface along its geometric normal, to the side `w` leaves on,
 /// so the new ray does not hit the surface it starts on. The offset scales with the point's
 /// magnitude, as float error does (pbrt-v4 §6.8.6 bounds it the same way, per component).
@@ -157,6 +171,34 @@ mod tests {
             (1.5, -1.0, 0.0),
         ] {
             assert_eq!(sin_cos_pi(x), (sin, cos), "at {x}");
+        }
+    }
+
+    /// glam's `normalize_or` to the bit, on vectors of every scale, zero, tiny (whose length
+    /// underflows), huge (whose length overflows), infinite and NaN.
+    #[test]
+    fn normalize_or_is_glams() {
+        let fallback = Vec3::new(0.0, 0.0, 1.0);
+        let mut vectors = vec![
+            Vec3::ZERO,
+            Vec3::splat(1e-30),
+            Vec3::new(1e-45, 0.0, 0.0),
+            Vec3::splat(3e38),
+            Vec3::new(f32::INFINITY, 0.0, 0.0),
+            Vec3::new(f32::NAN, 1.0, 0.0),
+            Vec3::new(-0.0, -0.0, -0.0),
+        ];
+        for k in 0..10_000 {
+            let t = k as f32 * 0.618_034;
+            let scale = 10f32.powi(k % 60 - 30);
+            vectors.push(Vec3::new(t.sin(), (1.3 * t).cos(), (0.7 * t).sin() - 0.2) * scale);
+        }
+        for v in vectors {
+            let (got, expected) = (normalize_or(v, fallback), v.normalize_or(fallback));
+            assert!(
+                got.to_array().map(f32::to_bits) == expected.to_array().map(f32::to_bits),
+                "{v}: {got} against {expected}"
+            );
         }
     }
 

@@ -169,7 +169,7 @@ impl EnvironmentMap {
 
     /// Where `direction` (world space) meets the map.
     fn point_of(&self, direction: Vec3) -> MapPoint {
-        let local = (self.world_to_light * direction).normalize_or(Vec3::Z);
+        let local = math::normalize_or(self.world_to_light * direction, Vec3::Z);
         let (uv, sin_theta) = direction_to_uv(local);
         MapPoint {
             sin_theta,
@@ -290,7 +290,7 @@ impl Environment {
                 // sample and only moved (u, v) by rounding, and the cell is the lookup's. The
                 // (u, v) -> direction map has Jacobian 2 pi^2 sin(theta).
                 (
-                    (map.light_to_world * local).normalize_or(Vec3::Z),
+                    math::normalize_or(map.light_to_world * local, Vec3::Z),
                     self.radiance * map.radiance_in(sample.cell),
                     sample.pdf / (2.0 * PI * PI * sin_theta),
                 )
