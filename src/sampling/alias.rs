@@ -102,12 +102,13 @@ impl AliasTable {
         if let [only] = self.bins.as_slice() {
             return (0, only.probability, u);
         }
-        // Bin numbers in u32 (the table holds at most u32::MAX bins: `alias` is a u32): the
-        // conversions between f32 and u32 are a single instruction each, those with usize a
-        // dozen (x86-64 has no unsigned 64-bit conversion).
+        // Bin numbers in u32 (the table holds at most u32::MAX bins: `alias` is a u32), and
+        // u n truncated through i32 (u n >= 0, and below 2^31 for tables of fewer than 2^31 bins):
+        // f32 -> i32 is one instruction on every x86-64, f32 -> u32 one only with AVX-512
+        // (eight before it), f32 -> usize a dozen.
         let n = self.bins.len() as u32;
         let scaled = u * n as f32;
-        let bin = (scaled as u32).min(n - 1);
+        let bin = (scaled as i32 as u32).min(n - 1);
         let frac = (scaled - bin as f32).clamp(0.0, ONE_MINUS_EPSILON);
         let entry = &self.bins[bin as usize];
         let (index, remapped) = if frac < entry.threshold {

@@ -28,6 +28,7 @@ pub struct Bilinear2D {
     rows: AliasTable,
     /// Per row of cells, over its cells by their integrals.
     cells: Vec<AliasTable>,
+    /// 0 when not finite (the values' f32 sum overflowed): then nothing is sampled.
     integral: f32,
 }
 
@@ -57,28 +58,29 @@ impl Bilinear2D {
             .collect();
         let row_integrals: Vec<f64> = cell_integrals.iter().map(|row| row.iter().sum()).collect();
         let to_f32 = |row: &[f64]| row.iter().map(|&v| v as f32).collect::<Vec<f32>>();
+        let integral = row_integrals.iter().sum::<f64>() as f32;
         Self {
             rows: AliasTable::new(&to_f32(&row_integrals)),
             cells: cell_integrals
                 .iter()
                 .map(|row| AliasTable::new(&to_f32(row)))
                 .collect(),
-            integral: row_integrals.iter().sum::<f64>() as f32,
+            integral: if integral.is_finite() { integral } else { 0.0 },
             values,
             xs: Axis::new(xs),
             ys: Axis::new(ys),
         }
     }
 
-    /// The interpolant's integral over the grid.
+    /// The interpolant's integral over the grid (0 if it overflows f32).
     pub fn integral(&self) -> f32 {
         self.integral
     }
 
-    /// A point of the grid with density interpolant / integral, and that density; `None`
-    /// when the interpolant is zero everywhere.
-    pub fn sample(&self, u: Vec2) -> Option<(Vec2, f32)> {
-        if self.integral <= 0.0 || !self.integral.is_finite() {
+    /// A point of the grid with density interpolant / integral, with that density and its cell;
+    /// `None` when the interpolant is zero everywhere.
+    pub fn sample(&self, u: Vec2) -> Option<BilinearSample> {
+        if self.integral <= 0.0 {
             return None;
         }
         let (j, _, uy) = self.rows.sample(u.y);
@@ -88,27 +90,64 @@ impl Bilinear2D {
         let (left, right) = (lerp(v00, v01, ty), lerp(v10, v11, ty));
         let tx = sample_linear(ux, left, right);
         let (xs, ys) = (&self.xs.positions, &self.ys.positions);
-        let point = Vec2::new(lerp(xs[i], xs[i + 1], tx), lerp(ys[j], ys[j + 1], ty));
-        Some((point, lerp(left, right, tx) / self.integral))
+        Some(BilinearSample {
+            point: Vec2::new(lerp(xs[i], xs[i + 1], tx), lerp(ys[j], ys[j + 1], ty)),
+            pdf: lerp(left, right, tx) / self.integral,
+            cell: GridCell {
+                column: i,
+                row: j,
+                fraction: Vec2::new(tx, ty),
+            },
+        })
     }
 
     /// The density of `sample` at `p` (clamped to the grid).
     pub fn pdf(&self, p: Vec2) -> f32 {
-        if self.integral <= 0.0 || !self.integral.is_finite() {
+        let (column, tx) = self.xs.cell_of(p.x);
+        let (row, ty) = self.ys.cell_of(p.y);
+        self.pdf_in_cell(GridCell {
+            column,
+            row,
+            fraction: Vec2::new(tx, ty),
+        })
+    }
+
+    /// The density of `sample` in `cell` at its fractions across it: [`Bilinear2D::pdf`] for a
+    /// caller that knows the cell already (one whose data shares the grid), without the search.
+    pub fn pdf_in_cell(&self, cell: GridCell) -> f32 {
+        if self.integral <= 0.0 {
             return 0.0;
         }
-        let (i, tx) = self.xs.cell_of(p.x);
-        let (j, ty) = self.ys.cell_of(p.y);
-        let [v00, v10, v01, v11] = self.corners(i, j);
+        let [v00, v10, v01, v11] = self.corners(cell.column, cell.row);
+        let (tx, ty) = (cell.fraction.x, cell.fraction.y);
         lerp(lerp(v00, v10, tx), lerp(v01, v11, tx), ty) / self.integral
     }
 
-    /// Cell (i, j)'s corner values: (x0, y0), (x1, y0), (x0, y1), (x1, y1).
+    /// Cell (i, j)'s corner values: (x0, y0), (x1, y0), (x0, y1), (x1, y1); one bounds check
+    /// for the four, on the slice from the first to the last.
     fn corners(&self, i: usize, j: usize) -> [f32; 4] {
         let nx = self.xs.positions.len();
-        let at = |i: usize, j: usize| self.values[j * nx + i];
-        [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
+        let values = &self.values[j * nx + i..][..nx + 2];
+        [values[0], values[1], values[nx], values[nx + 1]]
     }
+}
+
+/// A point drawn by [`Bilinear2D::sample`]: where, its density, and its cell, so that data laid
+/// out on the same grid (the environment map's texels) is read there without a search.
+#[derive(Clone, Copy, Debug)]
+pub struct BilinearSample {
+    pub point: Vec2,
+    pub pdf: f32,
+    pub cell: GridCell,
+}
+
+/// A cell of the grid, between vertices (`column`, `row`) and (`column` + 1, `row` + 1), and a
+/// point's fractions across it in x and y, each in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridCell {
+    pub column: usize,
+    pub row: usize,
+    pub fraction: Vec2,
 }
 
 /// One axis of the grid: its vertex positions, and the map from a position to a first guess of
@@ -198,9 +237,30 @@ mod tests {
         let d = grid();
         let mut rng = PathRng::new(3, 0, 0);
         for _ in 0..10_000 {
-            let (p, pdf) = d.sample(rng.next_2d()).unwrap();
+            let BilinearSample {
+                point: p,
+                pdf,
+                cell,
+            } = d.sample(rng.next_2d()).unwrap();
             assert!((0.0..=1.0).contains(&p.x) && (0.0..=1.0).contains(&p.y));
             assert!((pdf - d.pdf(p)).abs() <= 1e-4 * pdf.max(1.0), "{p} {pdf}");
+            // The sample's cell holds its point, which its fractions locate.
+            let (xs, ys) = (&d.xs.positions, &d.ys.positions);
+            let (i, j) = (cell.column, cell.row);
+            assert!(
+                (xs[i]..=xs[i + 1]).contains(&p.x) && (ys[j]..=ys[j + 1]).contains(&p.y),
+                "{p} outside {cell:?}"
+            );
+            let located = Vec2::new(
+                lerp(xs[i], xs[i + 1], cell.fraction.x),
+                lerp(ys[j], ys[j + 1], cell.fraction.y),
+            );
+            assert_eq!(located, p);
+            // The same bilinear form, interpolated in the other order.
+            assert!(
+                (d.pdf_in_cell(cell) - pdf).abs() <= 1e-5 * pdf.max(1.0),
+                "{cell:?}"
+            );
         }
         // Midpoint rule on a fine grid (exact up to cells straddling a vertex line).
         let n = 400;
@@ -236,7 +296,7 @@ mod tests {
         let mut rng = PathRng::new(4, 0, 0);
         let (x_bins, y_bins) = (Axis::new(xs.to_vec()), Axis::new(ys.to_vec()));
         for _ in 0..n {
-            let (p, _) = d.sample(rng.next_2d()).unwrap();
+            let p = d.sample(rng.next_2d()).unwrap().point;
             let (i, _) = x_bins.cell_of(p.x);
             let (j, _) = y_bins.cell_of(p.y);
             counts[j * (xs.len() - 1) + i] += 1;
@@ -309,6 +369,10 @@ mod tests {
     #[test]
     fn zero_everywhere_never_samples() {
         let d = Bilinear2D::new(&[0.0, f32::NAN, -1.0, 0.0], vec![0.0, 1.0], vec![0.0, 1.0]);
+        assert!(d.sample(Vec2::splat(0.5)).is_none());
+        assert_eq!(d.pdf(Vec2::splat(0.5)), 0.0);
+        // Finite values whose integral overflows f32: nothing to normalise by either.
+        let d = Bilinear2D::new(&[f32::MAX; 4], vec![0.0, 4.0], vec![0.0, 4.0]);
         assert!(d.sample(Vec2::splat(0.5)).is_none());
         assert_eq!(d.pdf(Vec2::splat(0.5)), 0.0);
     }

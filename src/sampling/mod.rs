@@ -14,7 +14,7 @@ pub mod spherical_rectangle;
 pub mod warp;
 
 pub use alias::AliasTable;
-pub use bilinear::Bilinear2D;
+pub use bilinear::{Bilinear2D, BilinearSample, GridCell};
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
 pub use pixel_sampler::{DimensionSampler, PassSampler, PixelSampler, SamplerKind};
