@@ -33,6 +33,7 @@ use glam::{Vec2, Vec3};
 use super::BsdfSample;
 use super::coated_glossy::CoatedGlossy;
 use super::schlick_distribution::{half_vector, schlick_g};
+use crate::math::normalize_or;
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 
 /// One side's coating: LuxRender's `glossy` lobe and its `multibounce` switch.
@@ -122,7 +123,7 @@ impl GlossyTranslucent {
         if side == 0.0 {
             return Vec3::ZERO;
         }
-        let h = Vec3::new(wi.x + wo.x, wi.y + wo.y, wi.z - wo.z).normalize_or_zero();
+        let h = normalize_or(Vec3::new(wi.x + wo.x, wi.y + wo.y, wi.z - wo.z), Vec3::ZERO);
         let u = wi.dot(h).abs();
         let (s1, s2) = (self.front.fresnel(u), self.back.fresnel(u));
         let s = (Vec3::ONE - s1) * (Vec3::ONE - s2) / (Vec3::ONE - (s1 + s2) * 0.5);

@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 use super::LightSample;
 use crate::accel::PrimitiveRef;
 use crate::film::luminance;
+use crate::math::normalize_or;
 use crate::sampling::AliasTable;
 use crate::sampling::spherical_rectangle::{Rectangle, SphericalRectangle};
 use crate::sampling::warp::{
@@ -165,7 +166,7 @@ impl AreaLight {
                 let axis = to_centre / d2.sqrt();
                 let (t, b) = axis.any_orthonormal_pair();
                 let local = uniform_cone(u, cos_max);
-                let wi = (t * local.x + b * local.y + axis * local.z).normalize_or(axis);
+                let wi = normalize_or(t * local.x + b * local.y + axis * local.z, axis);
                 // Distance to the near intersection of the ray with the sphere.
                 let along = to_centre.dot(wi);
                 let distance = along - (r2 - (d2 - along * along)).max(0.0).sqrt();
@@ -216,7 +217,10 @@ impl AreaLight {
                 let r2 = radius * radius;
                 if d2 <= r2 * 1.0001 {
                     let to_light = point - p;
-                    let cos_light = (-to_light.normalize_or_zero()).dot(normal).abs().max(1e-6);
+                    let cos_light = (-normalize_or(to_light, Vec3::ZERO))
+                        .dot(normal)
+                        .abs()
+                        .max(1e-6);
                     to_light.length_squared() / (cos_light * self.area())
                 } else {
                     uniform_cone_pdf((1.0 - r2 / d2).max(0.0).sqrt())
@@ -279,7 +283,7 @@ fn sample_uniform_solid_angle(
 /// emitter of total `area`, seen from `p`: distance^2 / (cos_light area).
 fn area_pdf(p: Vec3, point: Vec3, normal: Vec3, area: f32) -> f32 {
     let to_light = point - p;
-    let cos_light = (-to_light.normalize_or_zero()).dot(normal);
+    let cos_light = (-normalize_or(to_light, Vec3::ZERO)).dot(normal);
     if cos_light <= 0.0 {
         0.0
     } else {

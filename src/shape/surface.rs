@@ -6,6 +6,7 @@ use glam::{Vec2, Vec3};
 
 use super::geometry::{SceneGeometry, face_normal};
 use crate::accel::{Hit, PrimitiveRef};
+use crate::math::normalize_or;
 
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint {
@@ -80,21 +81,21 @@ impl SceneGeometry {
             // case's value to the bit (but for the sign of a zero coordinate).
             Some(translation) => {
                 let local = position + translation;
-                (local, local.normalize_or(Vec3::Z))
+                (local, normalize_or(local, Vec3::Z))
             }
             None => {
                 let local = sphere.world_to_object.transform_point3(position);
                 // Normals transform by the inverse transpose.
                 (
                     local,
-                    sphere.normal_to_world.mul_vec3(local).normalize_or(Vec3::Z),
+                    normalize_or(sphere.normal_to_world.mul_vec3(local), Vec3::Z),
                 )
             }
         };
         if !sphere.uv {
             return (n, n, Vec2::ZERO);
         }
-        let dir = local.normalize_or(Vec3::Z);
+        let dir = normalize_or(local, Vec3::Z);
         let phi = dir.y.atan2(dir.x);
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
         let uv = Vec2::new(phi / (2.0 * PI), dir.z.clamp(-1.0, 1.0).acos() / PI);
@@ -129,7 +130,7 @@ fn interpolate(
     let w = 1.0 - u - v;
     let ns = match normals {
         Some([n0, n1, n2]) => {
-            let n = (n0 * w + n1 * u + n2 * v).normalize_or(ng);
+            let n = normalize_or(n0 * w + n1 * u + n2 * v, ng);
             // Keep the shading normal on the geometric side (pbrt-v4 §6.5.3 does the reverse:
             // here the geometric one defines emission and inside/outside).
             if n.dot(ng) < 0.0 { -n } else { n }
