@@ -266,9 +266,9 @@ fn splat3<S: Lanes>(v: &[f32; 3]) -> [S; 3] {
 }
 
 /// The triangle test of `Triangle4::intersect`, its operations in its order, one ray per
-/// lane: where the rays hit with `t` in `(t_min, t_max)`, and `(t, u, v)`; `None` where none
-/// does. As there, the second cross product is skipped when no lane passes the first
-/// barycentric test.
+/// lane: where the rays hit with `t` in `(t_min, t_max)` (perhaps nowhere), and `(t, u, v)`.
+/// As there, the second cross product is skipped when no lane passes the first barycentric
+/// test: `None` then.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn triangle_lanes<S: Lanes>(
@@ -294,15 +294,15 @@ fn triangle_lanes<S: Lanes>(
     let uv = S::and(v.ge(zero), (u + v).le(one));
     let range = S::and(t.gt(rays.t_min), t.lt(t_max));
     let hit = S::and(u_mask, S::and(uv, range));
-    (S::bits(hit) != 0).then_some((hit, t, u, v))
+    Some((hit, t, u, v))
 }
 
 /// The sphere test of `Sphere4::intersect`, its operations in its order, one ray per lane:
-/// where the rays hit with `t` in `(t_min, t_max)`, and the nearest such root; `None` where
-/// none does.
+/// where the rays hit with `t` in `(t_min, t_max)` (perhaps nowhere), and the nearest such
+/// root.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> (S::Mask, S) {
     let map = |row: &[f32; 4], p: &[S; 3]| {
         S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
     };
@@ -331,14 +331,14 @@ fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Opti
     let near_in = S::and(near.gt(rays.t_min), near.lt(t_max));
     let far_in = S::and(far.gt(rays.t_min), far.lt(t_max));
     let hit = S::or(near_in, far_in);
-    (S::bits(hit) != 0).then_some((hit, far.replaced(near_in, near)))
+    (hit, far.replaced(near_in, near))
 }
 
 /// The disk test of `Disk::intersect`, its operations in its order, one ray per lane: where
-/// the rays hit with `t` in `(t_min, t_max)`, and `t`; `None` where none does.
+/// the rays hit with `t` in `(t_min, t_max)` (perhaps nowhere), and `t`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> (S::Mask, S) {
     let map = |row: &[f32; 4], p: &[S; 3]| {
         S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
     };
@@ -353,7 +353,7 @@ fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> Option<(S:
     let (x, y) = (o[0] + t * d[0], o[1] + t * d[1]);
     let range = S::and(t.gt(rays.t_min), t.lt(t_max));
     let hit = S::and(range, (x * x + y * y).le(S::splat(1.0)));
-    (S::bits(hit) != 0).then_some((hit, t))
+    (hit, t)
 }
 
 /// Calls `f(lane)` for each bit set in `bits`.
@@ -517,37 +517,40 @@ impl Flat {
         let len = (hits.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
         for (group_index, hits) in hits[..len].chunks_mut(S::LANES).enumerate() {
             let group = Group::<S>::load(rays, t_min, group_index * S::LANES, planes);
-            let (lanes, mut t_max, mut prim) = (&group.rays, group.t_max, group.prim);
-            let (mut u, mut v) = (S::splat(0.0), S::splat(0.0));
+            let (lanes, mut t_max) = (&group.rays, group.t_max);
+            // Each lane's primitive id rides in an `f32` lane as its bit pattern (a blend moves
+            // bits, never values): a hit is a blend, not a branch and a loop over its lanes,
+            // whose outcome incoherent rays make unpredictable.
+            let id = |id: u32| S::splat(f32::from_bits(id));
+            let mut prim = S::load(&group.prim.map(f32::from_bits));
+            let (zero, mut u, mut v) = (S::splat(0.0), S::splat(0.0), S::splat(0.0));
             for tri in &self.triangles {
                 if let Some((hit, t, hit_u, hit_v)) = triangle_lanes(tri, lanes, t_max) {
                     t_max = t_max.replaced(hit, t);
                     (u, v) = (u.replaced(hit, hit_u), v.replaced(hit, hit_v));
-                    for_each_lane(S::bits(hit), |lane| prim[lane] = tri.id);
+                    prim = prim.replaced(hit, id(tri.id));
                 }
             }
             for sphere in &self.spheres {
-                if let Some((hit, t)) = sphere_lanes(sphere, lanes, t_max) {
-                    t_max = t_max.replaced(hit, t);
-                    let zero = S::splat(0.0);
-                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
-                    for_each_lane(S::bits(hit), |lane| prim[lane] = sphere.id);
-                }
+                let (hit, t) = sphere_lanes(sphere, lanes, t_max);
+                t_max = t_max.replaced(hit, t);
+                (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                prim = prim.replaced(hit, id(sphere.id));
             }
             for disk in &self.disks {
-                if let Some((hit, t)) = disk_lanes(disk, lanes, t_max) {
-                    t_max = t_max.replaced(hit, t);
-                    let zero = S::splat(0.0);
-                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
-                    for_each_lane(S::bits(hit), |lane| prim[lane] = disk.id);
-                }
+                let (hit, t) = disk_lanes(disk, lanes, t_max);
+                t_max = t_max.replaced(hit, t);
+                (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                prim = prim.replaced(hit, id(disk.id));
             }
-            let (mut ts, mut us, mut vs) = ([0.0; MAX_LANES], [0.0; MAX_LANES], [0.0; MAX_LANES]);
-            t_max.store(&mut ts);
-            u.store(&mut us);
-            v.store(&mut vs);
+            let mut out = [[0.0; MAX_LANES]; 4];
+            t_max.store(&mut out[0]);
+            u.store(&mut out[1]);
+            v.store(&mut out[2]);
+            prim.store(&mut out[3]);
+            let [ts, us, vs, prims] = out;
             for (lane, hit) in hits.iter_mut().enumerate() {
-                let prim = prim[lane];
+                let prim = prims[lane].to_bits();
                 *hit = (prim != NO_HIT).then_some(Hit {
                     t: ts[lane],
                     prim,
@@ -686,14 +689,10 @@ impl Flat {
                 }
             });
             for_each_bit(invisible.spheres, |i| {
-                if let Some((hit, _)) = sphere_lanes(&self.spheres[i], lanes, t_max) {
-                    passed |= S::bits(hit);
-                }
+                passed |= S::bits(sphere_lanes(&self.spheres[i], lanes, t_max).0);
             });
             for_each_bit(invisible.disks, |i| {
-                if let Some((hit, _)) = disk_lanes(&self.disks[i], lanes, t_max) {
-                    passed |= S::bits(hit);
-                }
+                passed |= S::bits(disk_lanes(&self.disks[i], lanes, t_max).0);
             });
             // Settled lanes: those an opaque primitive blocks, and those that can hit nothing
             // (NaN).
@@ -715,20 +714,16 @@ impl Flat {
                     if (blocked | unusable) == all {
                         break 'primitives;
                     }
-                    if invisible.spheres >> i & 1 == 0
-                        && let Some((hit, _)) = sphere_lanes(sphere, lanes, t_max)
-                    {
-                        blocked |= S::bits(hit);
+                    if invisible.spheres >> i & 1 == 0 {
+                        blocked |= S::bits(sphere_lanes(sphere, lanes, t_max).0);
                     }
                 }
                 for (i, disk) in self.disks.iter().enumerate() {
                     if (blocked | unusable) == all {
                         break 'primitives;
                     }
-                    if invisible.disks >> i & 1 == 0
-                        && let Some((hit, _)) = disk_lanes(disk, lanes, t_max)
-                    {
-                        blocked |= S::bits(hit);
+                    if invisible.disks >> i & 1 == 0 {
+                        blocked |= S::bits(disk_lanes(disk, lanes, t_max).0);
                     }
                 }
             }
