@@ -21,6 +21,7 @@ use glam::{Vec3, Vec3A};
 use super::disk::Disk;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::{L8, L16, Lanes};
+use super::pass_through::{MAX_LAYERS, PassThrough};
 use super::plane::Plane;
 use super::sphere::sphere_bounds;
 use super::triangle::triangle_bounds;
@@ -69,62 +70,6 @@ pub(crate) struct Flat {
     disks: Vec<FlatDisk>,
 }
 
-/// A group of up to [`MAX_LANES`] rays, by coordinate: origins, directions, and `t_max`, NaN
-/// in a lane that can hit nothing (no ray, an empty range, a non-finite origin or direction,
-/// a zero direction), which every range test rejects.
-struct Group {
-    o: [[f32; MAX_LANES]; 3],
-    d: [[f32; MAX_LANES]; 3],
-    t_max: [f32; MAX_LANES],
-    /// Each lane's hit so far (planes first).
-    prim: [u32; MAX_LANES],
-}
-
-impl Group {
-    /// The rays `start..start + lanes` (as many as there are), tested against the planes.
-    #[inline(always)]
-    fn load(
-        rays: (&[Vec3], &[Vec3], &[f32]),
-        t_min: f32,
-        start: usize,
-        lanes: usize,
-        planes: &[Plane],
-    ) -> Self {
-        let (origins, dirs, t_maxs) = rays;
-        let mut group = Group {
-            o: [[0.0; MAX_LANES]; 3],
-            d: [[0.0; MAX_LANES]; 3],
-            t_max: [f32::NAN; MAX_LANES],
-            prim: [NO_HIT; MAX_LANES],
-        };
-        let end = (start + lanes)
-            .min(origins.len())
-            .min(dirs.len())
-            .min(t_maxs.len());
-        for (lane, i) in (start..end).enumerate() {
-            let (o, d, t_max) = (origins[i], dirs[i], t_maxs[i]);
-            // As `Ray::new` and the range test of `Accel::find_closest`: `x · 0` is 0 only for
-            // a finite `x`.
-            let finite = (o * 0.0 + d * 0.0).cmpeq(Vec3::ZERO).all();
-            if !(finite && d.cmpne(Vec3::ZERO).any() && t_min < t_max) {
-                continue;
-            }
-            for axis in 0..3 {
-                group.o[axis][lane] = o[axis];
-                group.d[axis][lane] = d[axis];
-            }
-            group.t_max[lane] = t_max;
-            let (o, d) = (Vec3A::from(o), Vec3A::from(d));
-            for plane in planes {
-                if let Some(t) = plane.intersect(o, d, t_min, group.t_max[lane]) {
-                    (group.t_max[lane], group.prim[lane]) = (t, plane.id);
-                }
-            }
-        }
-        group
-    }
-}
-
 /// A group's rays in lanes.
 #[cfg(target_arch = "x86_64")]
 struct Rays<S: Lanes> {
@@ -133,19 +78,167 @@ struct Rays<S: Lanes> {
     t_min: S,
 }
 
+/// A group of up to `S::LANES` rays in lanes, their `t_max` NaN in a lane that can hit
+/// nothing (no ray, an empty range, a non-finite origin or direction, a zero direction), which
+/// every range test rejects, and their plane hits.
 #[cfg(target_arch = "x86_64")]
-impl Group {
-    /// The group's rays in `S`'s lanes, with the range's lower end `t_min`.
+struct Group<S: Lanes> {
+    rays: Rays<S>,
+    /// Each lane's `t_max`, shrunk to its plane hit.
+    t_max: S,
+    /// Each lane's hit so far (planes first).
+    prim: [u32; MAX_LANES],
+}
+
+/// Rays per block of [`Packed`].
+const PACKED: usize = 128;
+
+/// The rays of a block of up to [`PACKED`] with a non-empty range, one after another, by
+/// coordinate, and their indices in the batch; `t_max` NaN past them, for the last group. A
+/// shadow batch has empty slots (43 % of Cornell's: no light sample at a specular vertex),
+/// which would otherwise fill lanes.
+struct Packed {
+    o: [[f32; PACKED + MAX_LANES]; 3],
+    d: [[f32; PACKED + MAX_LANES]; 3],
+    t_max: [f32; PACKED + MAX_LANES],
+    index: [u32; PACKED + MAX_LANES],
+    len: usize,
+}
+
+impl Packed {
+    fn new() -> Self {
+        Packed {
+            o: [[0.0; PACKED + MAX_LANES]; 3],
+            d: [[0.0; PACKED + MAX_LANES]; 3],
+            t_max: [f32::NAN; PACKED + MAX_LANES],
+            index: [0; PACKED + MAX_LANES],
+            len: 0,
+        }
+    }
+
+    /// Packs those of the rays `start..start + PACKED` (as many as there are) whose range
+    /// `(t_min, t_max)` is not empty. Without branches: each ray is written at the next slot,
+    /// which advances only past a kept one.
     #[inline(always)]
-    fn lanes<S: Lanes>(&self, t_min: f32) -> Rays<S> {
-        // Axis by axis, not `array::map`, which costs about one instruction per ray more.
-        let load = |axes: &[[f32; MAX_LANES]; 3]| {
-            [S::load(&axes[0]), S::load(&axes[1]), S::load(&axes[2])]
+    fn pack(&mut self, rays: (&[Vec3], &[Vec3], &[f32]), t_min: f32, start: usize) {
+        let (origins, dirs, t_maxs) = rays;
+        let end = (start + PACKED)
+            .min(origins.len())
+            .min(dirs.len())
+            .min(t_maxs.len());
+        let rays = (origins[start..end].iter())
+            .zip(&dirs[start..end])
+            .zip(&t_maxs[start..end]);
+        let mut len = 0;
+        for (k, ((o, d), &t_max)) in rays.enumerate() {
+            for axis in 0..3 {
+                self.o[axis][len] = o[axis];
+                self.d[axis][len] = d[axis];
+            }
+            self.t_max[len] = t_max;
+            self.index[len] = (start + k) as u32;
+            len += (t_min < t_max) as usize;
+        }
+        self.t_max[len..len + MAX_LANES].fill(f32::NAN);
+        self.len = len;
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Lanes> Group<S> {
+    /// The rays `start..start + S::LANES` (as many as there are), tested against the planes.
+    /// A whole group is transposed in registers ([`Lanes::load_points`]), the last, partial
+    /// one through arrays, its missing lanes zero with a NaN `t_max`.
+    #[inline(always)]
+    fn load(rays: (&[Vec3], &[Vec3], &[f32]), t_min: f32, start: usize, planes: &[Plane]) -> Self {
+        let (origins, dirs, t_maxs) = rays;
+        let end = (start + S::LANES)
+            .min(origins.len())
+            .min(dirs.len())
+            .min(t_maxs.len());
+        let (o, d, t_max) = if end - start == S::LANES {
+            let t_max = S::load(&t_maxs[start..end]);
+            let (o, d) = (&origins[start..end], &dirs[start..end]);
+            (S::load_points(o), S::load_points(d), t_max)
+        } else {
+            let mut o = [[0.0; MAX_LANES]; 3];
+            let mut d = [[0.0; MAX_LANES]; 3];
+            let mut t_max = [f32::NAN; MAX_LANES];
+            for (lane, i) in (start..end).enumerate() {
+                for axis in 0..3 {
+                    o[axis][lane] = origins[i][axis];
+                    d[axis][lane] = dirs[i][axis];
+                }
+                t_max[lane] = t_maxs[i];
+            }
+            let axes = |v: &[[f32; MAX_LANES]; 3]| [S::load(&v[0]), S::load(&v[1]), S::load(&v[2])];
+            (axes(&o), axes(&d), S::load(&t_max))
         };
-        Rays {
-            o: load(&self.o),
-            d: load(&self.d),
-            t_min: S::splat(t_min),
+        let ray = |lane: usize| (origins[start + lane], dirs[start + lane]);
+        Group::new(o, d, t_max, t_min, planes, ray)
+    }
+
+    /// The group of the packed rays `start..start + S::LANES` (see [`Packed`]), tested against
+    /// the planes.
+    #[inline(always)]
+    fn load_packed(
+        packed: &Packed,
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        start: usize,
+        planes: &[Plane],
+    ) -> Self {
+        let end = start + S::LANES;
+        let axes = |v: &[[f32; PACKED + MAX_LANES]; 3]| {
+            [0, 1, 2].map(|axis| S::load(&v[axis][start..end]))
+        };
+        let (o, d) = (axes(&packed.o), axes(&packed.d));
+        let t_max = S::load(&packed.t_max[start..end]);
+        let ray = |lane: usize| {
+            let i = packed.index[start + lane] as usize;
+            (rays.0[i], rays.1[i])
+        };
+        Group::new(o, d, t_max, t_min, planes, ray)
+    }
+
+    /// The group of the rays in lanes, with each lane's ray (`ray(lane)`) for the planes.
+    #[inline(always)]
+    fn new(
+        o: [S; 3],
+        d: [S; 3],
+        t_max: S,
+        t_min: f32,
+        planes: &[Plane],
+        ray: impl Fn(usize) -> (Vec3, Vec3),
+    ) -> Self {
+        // As `Ray::new` and the range test of `Accel::find_closest`: `x · 0` is 0 only for a
+        // finite `x`.
+        let zero = S::splat(0.0);
+        let finite = |axis: usize| (o[axis] * zero + d[axis] * zero).eq(zero);
+        let finite = S::and(S::and(finite(0), finite(1)), finite(2));
+        let moving = S::or(S::or(d[0].ne(zero), d[1].ne(zero)), d[2].ne(zero));
+        let usable = S::and(S::and(finite, moving), S::splat(t_min).lt(t_max));
+        let mut t_max = S::splat(f32::NAN).replaced(usable, t_max);
+        let mut prim = [NO_HIT; MAX_LANES];
+        if !planes.is_empty() {
+            let mut t_maxs = [f32::NAN; MAX_LANES];
+            t_max.store(&mut t_maxs);
+            for_each_lane(S::bits(usable), |lane| {
+                let (o, d) = ray(lane);
+                let (o, d) = (Vec3A::from(o), Vec3A::from(d));
+                for plane in planes {
+                    if let Some(t) = plane.intersect(o, d, t_min, t_maxs[lane]) {
+                        (t_maxs[lane], prim[lane]) = (t, plane.id);
+                    }
+                }
+            });
+            t_max = S::load(&t_maxs);
+        }
+        let t_min = S::splat(t_min);
+        Group {
+            rays: Rays { o, d, t_min },
+            t_max,
+            prim,
         }
     }
 }
@@ -173,9 +266,9 @@ fn splat3<S: Lanes>(v: &[f32; 3]) -> [S; 3] {
 }
 
 /// The triangle test of `Triangle4::intersect`, its operations in its order, one ray per
-/// lane: where the rays hit with `t` in `(t_min, t_max)`, and `(t, u, v)`; `None` where none
-/// does. As there, the second cross product is skipped when no lane passes the first
-/// barycentric test.
+/// lane: where the rays hit with `t` in `(t_min, t_max)` (perhaps nowhere), and `(t, u, v)`.
+/// As there, the second cross product is skipped when no lane passes the first barycentric
+/// test: `None` then.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn triangle_lanes<S: Lanes>(
@@ -201,15 +294,15 @@ fn triangle_lanes<S: Lanes>(
     let uv = S::and(v.ge(zero), (u + v).le(one));
     let range = S::and(t.gt(rays.t_min), t.lt(t_max));
     let hit = S::and(u_mask, S::and(uv, range));
-    (S::bits(hit) != 0).then_some((hit, t, u, v))
+    Some((hit, t, u, v))
 }
 
 /// The sphere test of `Sphere4::intersect`, its operations in its order, one ray per lane:
-/// where the rays hit with `t` in `(t_min, t_max)`, and the nearest such root; `None` where
-/// none does.
+/// where the rays hit with `t` in `(t_min, t_max)` (perhaps nowhere), and the nearest such
+/// root.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> (S::Mask, S) {
     let map = |row: &[f32; 4], p: &[S; 3]| {
         S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
     };
@@ -238,14 +331,14 @@ fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> Opti
     let near_in = S::and(near.gt(rays.t_min), near.lt(t_max));
     let far_in = S::and(far.gt(rays.t_min), far.lt(t_max));
     let hit = S::or(near_in, far_in);
-    (S::bits(hit) != 0).then_some((hit, far.replaced(near_in, near)))
+    (hit, far.replaced(near_in, near))
 }
 
 /// The disk test of `Disk::intersect`, its operations in its order, one ray per lane: where
-/// the rays hit with `t` in `(t_min, t_max)`, and `t`; `None` where none does.
+/// the rays hit with `t` in `(t_min, t_max)` (perhaps nowhere), and `t`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> Option<(S::Mask, S)> {
+fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> (S::Mask, S) {
     let map = |row: &[f32; 4], p: &[S; 3]| {
         S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
     };
@@ -260,7 +353,7 @@ fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> Option<(S:
     let (x, y) = (o[0] + t * d[0], o[1] + t * d[1]);
     let range = S::and(t.gt(rays.t_min), t.lt(t_max));
     let hit = S::and(range, (x * x + y * y).le(S::splat(1.0)));
-    (S::bits(hit) != 0).then_some((hit, t))
+    (hit, t)
 }
 
 /// Calls `f(lane)` for each bit set in `bits`.
@@ -270,6 +363,40 @@ fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
         f(bits.trailing_zeros() as usize);
         bits &= bits - 1;
     }
+}
+
+/// Calls `f(i)` for each bit `i` set in `bits`.
+#[inline(always)]
+fn for_each_bit(mut bits: u64, mut f: impl FnMut(usize)) {
+    while bits != 0 {
+        f(bits.trailing_zeros() as usize);
+        bits &= bits - 1;
+    }
+}
+
+/// The primitives shadow rays pass through ([`PassThrough`]), a bit each by index in
+/// [`Flat`]'s lists.
+///
+/// The walk past them (`Accel::blocked_past_pass_through`: nearest hit first, `t_min` raised
+/// to each invisible hit) blocks a ray exactly where some opaque primitive is hit, but for two
+/// cases: after [`MAX_LAYERS`] invisible layers it counts the ray blocked, and an opaque hit
+/// at the very `t` of an invisible one may be stepped over with it. So where a ray cannot meet
+/// `MAX_LAYERS` layers, a ray with an opaque hit and no invisible one is blocked, a ray without
+/// an opaque hit is not, and only a ray with both walks.
+#[derive(Clone, Copy, Debug, Default)]
+struct Invisible {
+    triangles: u64,
+    spheres: u64,
+    disks: u64,
+}
+
+/// The inputs of [`Flat::any_hits`]: with `walk_blocked`, every blocked ray walks.
+struct AnyHits<'a> {
+    planes: &'a [Plane],
+    rays: (&'a [Vec3], &'a [Vec3], &'a [f32]),
+    t_min: f32,
+    invisible: Invisible,
+    walk_blocked: bool,
 }
 
 impl Flat {
@@ -389,41 +516,43 @@ impl Flat {
     ) {
         let len = (hits.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
         for (group_index, hits) in hits[..len].chunks_mut(S::LANES).enumerate() {
-            let mut group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
-            let lanes = group.lanes::<S>(t_min);
-            let mut t_max = S::load(&group.t_max);
-            let (mut u, mut v) = (S::splat(0.0), S::splat(0.0));
+            let group = Group::<S>::load(rays, t_min, group_index * S::LANES, planes);
+            let (lanes, mut t_max) = (&group.rays, group.t_max);
+            // Each lane's primitive id rides in an `f32` lane as its bit pattern (a blend moves
+            // bits, never values): a hit is a blend, not a branch and a loop over its lanes,
+            // whose outcome incoherent rays make unpredictable.
+            let id = |id: u32| S::splat(f32::from_bits(id));
+            let mut prim = S::load(&group.prim.map(f32::from_bits));
+            let (zero, mut u, mut v) = (S::splat(0.0), S::splat(0.0), S::splat(0.0));
             for tri in &self.triangles {
-                if let Some((hit, t, hit_u, hit_v)) = triangle_lanes(tri, &lanes, t_max) {
+                if let Some((hit, t, hit_u, hit_v)) = triangle_lanes(tri, lanes, t_max) {
                     t_max = t_max.replaced(hit, t);
                     (u, v) = (u.replaced(hit, hit_u), v.replaced(hit, hit_v));
-                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = tri.id);
+                    prim = prim.replaced(hit, id(tri.id));
                 }
             }
             for sphere in &self.spheres {
-                if let Some((hit, t)) = sphere_lanes(sphere, &lanes, t_max) {
-                    t_max = t_max.replaced(hit, t);
-                    let zero = S::splat(0.0);
-                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
-                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = sphere.id);
-                }
+                let (hit, t) = sphere_lanes(sphere, lanes, t_max);
+                t_max = t_max.replaced(hit, t);
+                (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                prim = prim.replaced(hit, id(sphere.id));
             }
             for disk in &self.disks {
-                if let Some((hit, t)) = disk_lanes(disk, &lanes, t_max) {
-                    t_max = t_max.replaced(hit, t);
-                    let zero = S::splat(0.0);
-                    (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
-                    for_each_lane(S::bits(hit), |lane| group.prim[lane] = disk.id);
-                }
+                let (hit, t) = disk_lanes(disk, lanes, t_max);
+                t_max = t_max.replaced(hit, t);
+                (u, v) = (u.replaced(hit, zero), v.replaced(hit, zero));
+                prim = prim.replaced(hit, id(disk.id));
             }
-            let (mut us, mut vs) = ([0.0; MAX_LANES], [0.0; MAX_LANES]);
-            t_max.store(&mut group.t_max);
-            u.store(&mut us);
-            v.store(&mut vs);
+            let mut out = [[0.0; MAX_LANES]; 4];
+            t_max.store(&mut out[0]);
+            u.store(&mut out[1]);
+            v.store(&mut out[2]);
+            prim.store(&mut out[3]);
+            let [ts, us, vs, prims] = out;
             for (lane, hit) in hits.iter_mut().enumerate() {
-                let prim = group.prim[lane];
+                let prim = prims[lane].to_bits();
                 *hit = (prim != NO_HIT).then_some(Hit {
-                    t: group.t_max[lane],
+                    t: ts[lane],
                     prim,
                     u: us[lane],
                     v: vs[lane],
@@ -433,21 +562,40 @@ impl Flat {
     }
 
     /// For each i: occluded[i] = whether ray i hits a plane or one of these primitives with t
-    /// in (t_min, t_maxs[i]). A group stops as soon as all its rays are occluded.
+    /// in (t_min, t_maxs[i]); with `pass_through`, whether `Accel::any_opaque_hit` finds one
+    /// not in that set, where `walk(i)` is that query's answer for ray i, called for the rays
+    /// the lanes leave undecided (see [`Invisible`]). A group stops as soon as all its rays are
+    /// settled.
     pub fn any_hits(
         &self,
         planes: &[Plane],
         rays: (&[Vec3], &[Vec3], &[f32]),
         t_min: f32,
+        pass_through: Option<&PassThrough>,
+        walk: impl Fn(usize) -> bool,
         occluded: &mut [bool],
     ) {
+        let (invisible, walk_blocked) = match pass_through {
+            None => (Invisible::default(), false),
+            Some(pass) => match self.invisible(planes, pass) {
+                Some(invisible) => (invisible, false),
+                None => (Invisible::default(), true),
+            },
+        };
+        let query = AnyHits {
+            planes,
+            rays,
+            t_min,
+            invisible,
+            walk_blocked,
+        };
         #[cfg(target_arch = "x86_64")]
         {
             // SAFETY: as in `closest_hits`.
             if std::arch::is_x86_feature_detected!("avx512f") {
-                return unsafe { self.any_hits_avx512(planes, rays, t_min, occluded) };
+                return unsafe { self.any_hits_avx512(&query, walk, occluded) };
             }
-            return unsafe { self.any_hits_avx2(planes, rays, t_min, occluded) };
+            return unsafe { self.any_hits_avx2(&query, walk, occluded) };
         }
         #[allow(unreachable_code)]
         {
@@ -455,81 +603,138 @@ impl Flat {
         }
     }
 
+    /// The primitives of `pass_through` among these, or `None` where the lanes cannot decide
+    /// without the walk: a plane passes rays (planes are tested ray by ray, nearest only), or
+    /// a ray could meet [`MAX_LAYERS`] invisible surfaces (a sphere is met twice).
+    fn invisible(&self, planes: &[Plane], pass_through: &PassThrough) -> Option<Invisible> {
+        let bits = |ids: &mut dyn Iterator<Item = u32>| {
+            (ids.enumerate()).fold(0u64, |bits, (i, id)| {
+                bits | (pass_through.contains(id) as u64) << i
+            })
+        };
+        let invisible = Invisible {
+            triangles: bits(&mut self.triangles.iter().map(|tri| tri.id)),
+            spheres: bits(&mut self.spheres.iter().map(|sphere| sphere.id)),
+            disks: bits(&mut self.disks.iter().map(|disk| disk.id)),
+        };
+        let layers = invisible.triangles.count_ones()
+            + 2 * invisible.spheres.count_ones()
+            + invisible.disks.count_ones();
+        let plane_passes = planes.iter().any(|plane| pass_through.contains(plane.id));
+        (!plane_passes && layers < MAX_LAYERS).then_some(invisible)
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
     fn any_hits_avx512(
         &self,
-        planes: &[Plane],
-        rays: (&[Vec3], &[Vec3], &[f32]),
-        t_min: f32,
+        query: &AnyHits,
+        walk: impl Fn(usize) -> bool,
         occluded: &mut [bool],
     ) {
-        self.any_hits_in::<L16>(planes, rays, t_min, occluded)
+        self.any_hits_in::<L16>(query, walk, occluded)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn any_hits_avx2(
-        &self,
-        planes: &[Plane],
-        rays: (&[Vec3], &[Vec3], &[f32]),
-        t_min: f32,
-        occluded: &mut [bool],
-    ) {
-        self.any_hits_in::<L8>(planes, rays, t_min, occluded)
+    fn any_hits_avx2(&self, query: &AnyHits, walk: impl Fn(usize) -> bool, occluded: &mut [bool]) {
+        self.any_hits_in::<L8>(query, walk, occluded)
     }
 
-    /// [`Flat::any_hits`] in groups of `S::LANES`.
+    /// [`Flat::any_hits`] in groups of `S::LANES`: the invisible primitives first, then the
+    /// opaque ones until every lane is settled.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn any_hits_in<S: Lanes>(
         &self,
-        planes: &[Plane],
-        rays: (&[Vec3], &[Vec3], &[f32]),
-        t_min: f32,
+        query: &AnyHits,
+        walk: impl Fn(usize) -> bool,
         occluded: &mut [bool],
     ) {
+        let (rays, t_min) = (query.rays, query.t_min);
         let len = (occluded.len().min(rays.0.len()).min(rays.1.len())).min(rays.2.len());
-        for (group_index, occluded) in occluded[..len].chunks_mut(S::LANES).enumerate() {
-            let group = Group::load(rays, t_min, group_index * S::LANES, S::LANES, planes);
-            let lanes = group.lanes::<S>(t_min);
-            let t_max = S::load(&group.t_max);
-            // Settled lanes: those a plane blocks, and those that can hit nothing (NaN).
+        let rays = (&rays.0[..len], &rays.1[..len], &rays.2[..len]);
+        occluded[..len].fill(false);
+        let mut packed = Packed::new();
+        for block in (0..len).step_by(PACKED) {
+            packed.pack(rays, t_min, block);
+            for first in (0..packed.len).step_by(S::LANES) {
+                self.any_hits_group::<S>(query, &packed, first, &walk, occluded);
+            }
+        }
+    }
+
+    /// The packed rays `first..first + S::LANES` of [`Flat::any_hits_in`].
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn any_hits_group<S: Lanes>(
+        &self,
+        query: &AnyHits,
+        packed: &Packed,
+        first: usize,
+        walk: impl Fn(usize) -> bool,
+        occluded: &mut [bool],
+    ) {
+        let (rays, t_min, invisible) = (query.rays, query.t_min, &query.invisible);
+        {
+            let group = Group::<S>::load_packed(packed, rays, t_min, first, query.planes);
+            let (lanes, t_max) = (&group.rays, group.t_max);
             let planes_hit = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
                 bits | ((prim != NO_HIT) as u32) << lane
             });
+            let mut passed = 0;
+            for_each_bit(invisible.triangles, |i| {
+                if let Some((hit, ..)) = triangle_lanes(&self.triangles[i], lanes, t_max) {
+                    passed |= S::bits(hit);
+                }
+            });
+            for_each_bit(invisible.spheres, |i| {
+                passed |= S::bits(sphere_lanes(&self.spheres[i], lanes, t_max).0);
+            });
+            for_each_bit(invisible.disks, |i| {
+                passed |= S::bits(disk_lanes(&self.disks[i], lanes, t_max).0);
+            });
+            // Settled lanes: those an opaque primitive blocks, and those that can hit nothing
+            // (NaN).
             let mut blocked = planes_hit;
             let unusable = S::bits(t_max.ne(t_max));
             let all = (1u32 << S::LANES) - 1;
             'primitives: {
-                for tri in &self.triangles {
+                for (i, tri) in self.triangles.iter().enumerate() {
                     if (blocked | unusable) == all {
                         break 'primitives;
                     }
-                    if let Some((hit, ..)) = triangle_lanes(tri, &lanes, t_max) {
+                    if invisible.triangles >> i & 1 == 0
+                        && let Some((hit, ..)) = triangle_lanes(tri, lanes, t_max)
+                    {
                         blocked |= S::bits(hit);
                     }
                 }
-                for sphere in &self.spheres {
+                for (i, sphere) in self.spheres.iter().enumerate() {
                     if (blocked | unusable) == all {
                         break 'primitives;
                     }
-                    if let Some((hit, _)) = sphere_lanes(sphere, &lanes, t_max) {
-                        blocked |= S::bits(hit);
+                    if invisible.spheres >> i & 1 == 0 {
+                        blocked |= S::bits(sphere_lanes(sphere, lanes, t_max).0);
                     }
                 }
-                for disk in &self.disks {
+                for (i, disk) in self.disks.iter().enumerate() {
                     if (blocked | unusable) == all {
                         break 'primitives;
                     }
-                    if let Some((hit, _)) = disk_lanes(disk, &lanes, t_max) {
-                        blocked |= S::bits(hit);
+                    if invisible.disks >> i & 1 == 0 {
+                        blocked |= S::bits(disk_lanes(disk, lanes, t_max).0);
                     }
                 }
             }
-            for (lane, occ) in occluded.iter_mut().enumerate() {
-                *occ = blocked & (1 << lane) != 0;
-            }
+            let (decided, undecided) = if query.walk_blocked {
+                (0, blocked)
+            } else {
+                (blocked & !passed, blocked & passed)
+            };
+            let ray = |lane: usize| packed.index[first + lane] as usize;
+            for_each_lane(decided, |lane| occluded[ray(lane)] = true);
+            for_each_lane(undecided, |lane| occluded[ray(lane)] = walk(ray(lane)));
         }
     }
 }
@@ -713,12 +918,14 @@ mod tests {
     /// On random small scenes, in groups of 8 lanes (AVX2) and 16 (AVX-512, where the CPU has
     /// it) and through `Accel`'s batch entry points: every closest hit equals
     /// the brute-force one bit for bit (ties to the lowest id), has the tree's `t` bit for
-    /// bit, and every occlusion, with and without a pass-through set, is the tree's.
+    /// bit, and every occlusion, with and without a pass-through set (in lanes at each width
+    /// and through `Accel`), is the tree's.
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn flat_matches_brute_force_and_tree() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(8);
         let (mut hits, mut occluded, mut passed, mut ties, mut disk_hits) = (0, 0, 0, 0, 0);
+        let mut in_lanes = 0;
         for _ in 0..300 {
             let scene = scene(&mut rng);
             let accel = Accel::build(&scene);
@@ -729,21 +936,41 @@ mod tests {
             let planes = &accel.planes;
             // Every third primitive passes shadow rays.
             let pass = PassThrough::new(accel.primitive_count(), |id| id % 3 == 1).unwrap();
-            let (mut by_width, mut blocked) = (Vec::new(), Vec::new());
+            let (mut by_width, mut blocked, mut opaque) = (Vec::new(), Vec::new(), Vec::new());
+            let invisible = flat.invisible(planes, &pass);
+            in_lanes += invisible.is_some() as usize;
+            let query = |invisible: Option<Invisible>| AnyHits {
+                planes,
+                rays,
+                t_min: 0.0,
+                walk_blocked: invisible.is_none(),
+                invisible: invisible.unwrap_or_default(),
+            };
+            let (all_opaque, past_invisible) =
+                (query(Some(Invisible::default())), query(invisible));
+            let walk = |i: usize| {
+                accel.blocked_past_pass_through(origins[i], dirs[i], 0.0, t_maxs[i], &pass)
+            };
+            let never =
+                |_: usize| -> bool { unreachable!("no ray walks without invisible surfaces") };
             let mut run = |avx512: bool| {
-                let (mut hits, mut occluded) = (vec![None; n], vec![false; n]);
+                let (mut hits, mut occluded, mut opaque_lanes) =
+                    (vec![None; n], vec![false; n], vec![false; n]);
                 // SAFETY: each width only where the CPU has its features.
                 unsafe {
                     if avx512 {
                         flat.closest_hits_avx512(planes, rays, 0.0, &mut hits);
-                        flat.any_hits_avx512(planes, rays, 0.0, &mut occluded);
+                        flat.any_hits_avx512(&all_opaque, never, &mut occluded);
+                        flat.any_hits_avx512(&past_invisible, walk, &mut opaque_lanes);
                     } else {
                         flat.closest_hits_avx2(planes, rays, 0.0, &mut hits);
-                        flat.any_hits_avx2(planes, rays, 0.0, &mut occluded);
+                        flat.any_hits_avx2(&all_opaque, never, &mut occluded);
+                        flat.any_hits_avx2(&past_invisible, walk, &mut opaque_lanes);
                     }
                 }
                 by_width.push(hits);
                 blocked.push(occluded);
+                opaque.push(opaque_lanes);
             };
             run(false);
             if std::arch::is_x86_feature_detected!("avx512f") {
@@ -764,6 +991,7 @@ mod tests {
                 Some(&pass),
                 &mut opaque_batch,
             );
+            opaque.push(opaque_batch);
             for i in 0..n {
                 let (o, d, t_max) = (origins[i], dirs[i], t_maxs[i]);
                 let expected = brute_force(&accel, &scene, o, d, t_max);
@@ -781,16 +1009,24 @@ mod tests {
                 for b in &blocked {
                     assert_eq!(b[i], any, "ray {i}");
                 }
-                let opaque = accel.any_opaque_hit(o, d, 0.0, t_max, &pass);
-                assert_eq!(opaque_batch[i], opaque, "ray {i}");
+                let any_opaque = accel.any_opaque_hit(o, d, 0.0, t_max, &pass);
+                for o in &opaque {
+                    assert_eq!(o[i], any_opaque, "ray {i}");
+                }
                 occluded += any as usize;
-                passed += (any && !opaque) as usize;
+                passed += (any && !any_opaque) as usize;
             }
         }
+        // Scenes with an invisible plane walk every blocked ray; the others decide in lanes.
         assert!(
-            hits > 10_000 && occluded > 10_000 && passed > 1000 && ties > 0 && disk_hits > 500,
+            hits > 10_000
+                && occluded > 10_000
+                && passed > 1000
+                && ties > 0
+                && disk_hits > 500
+                && (1..300).contains(&in_lanes),
             "{hits} hits ({disk_hits} on disks), {occluded} occluded, {passed} passed through, \
-             {ties} ties"
+             {ties} ties, {in_lanes} scenes past invisible surfaces in lanes"
         );
     }
 }

@@ -475,14 +475,12 @@ impl Accel {
         occluded: &mut [bool],
     ) {
         if let Some(flat) = &self.flat {
-            flat.any_hits(&self.planes, (origins, dirs, t_maxs), t_min, occluded);
-            if let Some(pass) = pass_through {
-                let rays = (occluded.iter_mut()).zip(origins).zip(dirs).zip(t_maxs);
-                for (((occ, &o), &d), &t_max) in rays.filter(|r| *r.0.0.0) {
-                    *occ = self.blocked_past_pass_through(o, d, t_min, t_max, pass);
-                }
-            }
-            return;
+            let walk = |i: usize| {
+                let pass = pass_through.expect("only rays past invisible surfaces walk");
+                self.blocked_past_pass_through(origins[i], dirs[i], t_min, t_maxs[i], pass)
+            };
+            let rays = (origins, dirs, t_maxs);
+            return flat.any_hits(&self.planes, rays, t_min, pass_through, walk, occluded);
         }
         #[cfg(target_arch = "x86_64")]
         if let Some(stride) = stride

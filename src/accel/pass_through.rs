@@ -16,7 +16,7 @@ use super::Accel;
 
 /// After this many invisible surfaces in a row a shadow ray counts as blocked, as a camera ray
 /// ends after as many (`integrator::shading::MAX_PASS_THROUGH`).
-const MAX_LAYERS: u32 = 64;
+pub(super) const MAX_LAYERS: u32 = 64;
 
 /// The primitive ids a shadow ray passes through, one bit each.
 #[derive(Clone, Debug, PartialEq)]
