@@ -5,8 +5,6 @@ use super::beckmann::Beckmann;
 use super::microfacet::{Alphas, TrowbridgeReitz};
 use glam::{Vec2, Vec3};
 
-use crate::math::normalize_or;
-
 /// Which distribution, before its alphas are known.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DistributionKind {
@@ -166,7 +164,7 @@ mod tests {
                 for masking in [Masking::HeightCorrelated, Masking::Separable] {
                     for &wo in &directions {
                         for &wi in &directions {
-                            let wm = normalize_or(wo + wi, Vec3::Z);
+                            let wm = (wo + wi).normalize_or(Vec3::Z);
                             let shared = distribution.d_g_pdf_wm(wo, wi, wm, masking);
                             let separate = (
                                 distribution.d(wm),
