@@ -19,7 +19,7 @@
 //! whose aligned blocks of `2^m` points are stratified in `2^m` intervals.
 
 use super::hash::{hash_extend, mix64, unit_f32};
-use super::sobol::{owen_scramble_reversed, second_dimension_reversed};
+use super::sobol::{index_and_second_dimension_reversed, owen_scramble_reversed};
 
 use glam::Vec2;
 
@@ -52,10 +52,10 @@ pub fn padded_sobol_1d(pixel_key: u64, index_reversed: u32, draw: u32) -> f32 {
 pub fn padded_sobol_2d(pixel_key: u64, index_reversed: u32, draw: u32) -> Vec2 {
     let (shuffle, x_seed, h) = draw_seeds(pixel_key, draw);
     let y_seed = mix64(h) as u32;
-    let x = shuffled_index_reversed(index_reversed, shuffle);
-    let y_reversed = second_dimension_reversed(x);
+    let (x, y_reversed) =
+        index_and_second_dimension_reversed(shuffled_index_reversed(index_reversed, shuffle));
     let (x, y) = (
-        owen_scramble_reversed(x.reverse_bits(), x_seed),
+        owen_scramble_reversed(x, x_seed),
         owen_scramble_reversed(y_reversed, y_seed),
     );
     // Both words reversed at once: reversing the 64 bits of (x, y) gives (rev y, rev x).

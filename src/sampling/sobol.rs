@@ -82,23 +82,26 @@ pub fn sobol(mut index: u32, dimension: usize) -> u32 {
     value
 }
 
-/// The second dimension's generator matrix applied to a bit-reversed index, its result
-/// bit-reversed, a byte of the index at a time: `TABLES[p][b]` is the XOR of the reversed
-/// columns `C_1[31 - (8 p + t)]` for the set bits `t` of `b` (bit `8 p + t` of the reversed
-/// index is bit `31 - 8 p - t` of the index). 4 KiB.
-const SECOND_DIMENSION_REVERSED: [[u32; 256]; 4] = second_dimension_tables();
+/// The index and the second dimension's point, both from a bit-reversed index, a byte of it at
+/// a time: `TABLES[p][b]` holds in its high word the bits `31 - (8 p + t)` and in its low word
+/// the XOR of the reversed columns `C_1[31 - (8 p + t)]`, for the set bits `t` of `b` (bit
+/// `8 p + t` of the reversed index is bit `31 - 8 p - t` of the index). Both are linear over
+/// GF(2) in the reversed index, so one lookup per byte gives the index's reversal and the
+/// matrix product together. 8 KiB.
+const INDEX_AND_SECOND_DIMENSION_REVERSED: [[u64; 256]; 4] = index_and_second_dimension_tables();
 
-const fn second_dimension_tables() -> [[u32; 256]; 4] {
-    let mut tables = [[0u32; 256]; 4];
+const fn index_and_second_dimension_tables() -> [[u64; 256]; 4] {
+    let mut tables = [[0u64; 256]; 4];
     let mut p = 0;
     while p < 4 {
         let mut b = 0;
         while b < 256 {
-            let mut value = 0;
+            let mut value = 0u64;
             let mut t = 0;
             while t < 8 {
                 if (b >> t) & 1 == 1 {
-                    value ^= MATRICES[1][31 - (8 * p + t)].reverse_bits();
+                    let bit = 31 - (8 * p + t);
+                    value ^= (1u64 << (32 + bit)) | MATRICES[1][bit].reverse_bits() as u64;
                 }
                 t += 1;
             }
@@ -110,13 +113,15 @@ const fn second_dimension_tables() -> [[u32; 256]; 4] {
     tables
 }
 
-/// Point `reverse(index_reversed)` of Sobol' dimension 1, bit-reversed: the form the padded
-/// sampler scrambles (four table lookups rather than a loop over 32 columns).
+/// From a bit-reversed index, the index and its point of Sobol' dimension 1 bit-reversed: the
+/// forms the padded sampler scrambles (four table lookups rather than a bit reversal and a loop
+/// over 32 columns).
 #[inline(always)]
-pub fn second_dimension_reversed(index_reversed: u32) -> u32 {
+pub fn index_and_second_dimension_reversed(index_reversed: u32) -> (u32, u32) {
     let [b0, b1, b2, b3] = index_reversed.to_le_bytes();
-    let t = &SECOND_DIMENSION_REVERSED;
-    t[0][b0 as usize] ^ t[1][b1 as usize] ^ t[2][b2 as usize] ^ t[3][b3 as usize]
+    let t = &INDEX_AND_SECOND_DIMENSION_REVERSED;
+    let both = t[0][b0 as usize] ^ t[1][b1 as usize] ^ t[2][b2 as usize] ^ t[3][b3 as usize];
+    ((both >> 32) as u32, both as u32)
 }
 
 /// Owen scrambling of a bit-reversed 32-bit fraction: a permutation of [0, 2^32) in which bit `j`
@@ -164,14 +169,14 @@ mod tests {
         );
     }
 
-    /// The byte tables give the matrix product of the second dimension, for indices with
-    /// every byte in use.
+    /// The byte tables give the index and the matrix product of the second dimension, for
+    /// indices with every byte in use.
     #[test]
-    fn second_dimension_tables_match_the_matrix() {
+    fn index_and_second_dimension_tables_match_the_matrix() {
         for index in (0..5000u32).map(|i| i.wrapping_mul(0x9e37_79b9) ^ (i << 3)) {
             assert_eq!(
-                second_dimension_reversed(index.reverse_bits()),
-                sobol(index, 1).reverse_bits(),
+                index_and_second_dimension_reversed(index.reverse_bits()),
+                (index, sobol(index, 1).reverse_bits()),
                 "{index:#x}"
             );
         }
