@@ -5,8 +5,6 @@ use super::beckmann::Beckmann;
 use super::microfacet::{Alphas, TrowbridgeReitz};
 use glam::{Vec2, Vec3};
 
-use crate::math::normalize_or;
-
 /// Which distribution, before its alphas are known.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DistributionKind {
@@ -147,6 +145,7 @@ impl Microfacet {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::normalize_or;
     use crate::sampling::warp::uniform_sphere;
 
     /// The shared terms are the separate ones to the bit, for both distributions, both forms of
