@@ -92,6 +92,24 @@ pub fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
     }
 }
 
+/// glam's `Vec3::try_normalize` to the bit (the same reciprocal length and product), its test
+/// written as comparisons as in [`normalize_or`]: None when `v` is zero or not finite.
+pub fn try_normalize(v: Vec3) -> Option<Vec3> {
+    let rcp = 1.0 / v.length();
+    (rcp > 0.0 && rcp <= f32::MAX).then(|| v * rcp)
+}
+
+/// `x.is_finite()` for every input (NaN compares false, and |x| <= f32::MAX excludes exactly
+/// the infinities), as a float comparison where LLVM folds `is_finite` into integer tests.
+pub fn is_finite(x: f32) -> bool {
+    x.abs() <= f32::MAX
+}
+
+/// glam's `Vec3::is_finite` (every component finite), without branches between the components.
+pub fn is_finite_vec3(v: Vec3) -> bool {
+    is_finite(v.x) & is_finite(v.y) & is_finite(v.z)
+}
+
 /// Moves a ray origin off a surface along its geometric normal, to the side `w` leaves on,
 /// so the new ray does not hit the surface it starts on. The offset scales with the point's
 /// magnitude, as float error does (pbrt-v4 §6.8.6 bounds it the same way, per component).
@@ -199,6 +217,46 @@ mod tests {
                 got.to_array().map(f32::to_bits) == expected.to_array().map(f32::to_bits),
                 "{v}: {got} against {expected}"
             );
+        }
+    }
+
+    /// `is_finite` and `is_finite_vec3` agree with std and glam on NaN, the infinities, the
+    /// largest finite values, zeros, subnormals and ordinary values; `try_normalize` is glam's
+    /// to the bit on the vectors of [`normalize_or_is_glams`].
+    #[test]
+    fn finiteness_tests_are_stds() {
+        let values = [
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+            1e-45,
+            -1e-45,
+            1.0,
+            -3.5,
+        ];
+        for x in values {
+            assert_eq!(is_finite(x), x.is_finite(), "{x}");
+            for y in values {
+                let v = Vec3::new(x, y, 1.0);
+                assert_eq!(is_finite_vec3(v), v.is_finite(), "{v}");
+                let w = Vec3::new(1.0, x, y);
+                assert_eq!(is_finite_vec3(w), w.is_finite(), "{w}");
+                let bits = |v: Option<Vec3>| v.map(|v| v.to_array().map(f32::to_bits));
+                assert_eq!(bits(try_normalize(v)), bits(v.try_normalize()), "{v}");
+            }
+        }
+        for k in 0..10_000 {
+            let t = k as f32 * 0.618_034;
+            let scale = 10f32.powi(k % 80 - 40);
+            let v = Vec3::new(t.sin(), (1.3 * t).cos(), (0.7 * t).sin() - 0.2) * scale;
+            let bits = |v: Option<Vec3>| v.map(|v| v.to_array().map(f32::to_bits));
+            assert_eq!(bits(try_normalize(v)), bits(v.try_normalize()), "{v}");
         }
     }
 

@@ -16,6 +16,7 @@
 //! Sampled as pbrt-v1's `BSDF` samples two components: each with probability 1/2 (the cosine
 //! or a Blinn half vector), the density the average of both.
 
+use crate::math::try_normalize;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -40,7 +41,7 @@ impl BlinnPlastic {
             return Vec3::ZERO;
         }
         let diffuse = self.diffuse * FRAC_1_PI;
-        let Some(h) = (wo + wi).try_normalize() else {
+        let Some(h) = try_normalize(wo + wi) else {
             return diffuse;
         };
         // wo . h = wi . h; their mean keeps f exactly reciprocal in floating point (F is steep

@@ -16,6 +16,7 @@
 use super::BsdfSample;
 use super::fresnel::{fr_conductor, schlick};
 use super::microfacet_distribution::{Masking, Microfacet};
+use crate::math::try_normalize;
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -48,7 +49,7 @@ impl ConductorFresnel {
 /// The half vector, if wo and wi are both in the upper hemisphere.
 fn half_vector(wo: Vec3, wi: Vec3) -> Option<Vec3> {
     if wo.z > 0.0 && wi.z > 0.0 {
-        (wo + wi).try_normalize()
+        try_normalize(wo + wi)
     } else {
         None
     }

@@ -12,6 +12,7 @@
 //! conserve energy for Rd = 1 (the paper's derivation); sampled as pbrt-v1's
 //! `FresnelBlend::Sample_f`: half the samples cosine-weighted, half by the half-vector lobe.
 
+use crate::math::try_normalize;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -35,7 +36,7 @@ impl FresnelBlend {
         let diffuse = self.diffuse
             * (Vec3::ONE - self.specular)
             * (28.0 / (23.0 * PI) * grazing(wi.z) * grazing(wo.z));
-        let Some(h) = (wo + wi).try_normalize() else {
+        let Some(h) = try_normalize(wo + wi) else {
             return diffuse;
         };
         let cos_ih = wi.dot(h);

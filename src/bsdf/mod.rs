@@ -38,6 +38,7 @@ pub mod thin_dielectric;
 pub mod thin_film;
 pub mod velvet;
 
+use crate::math;
 pub use blinn_plastic::BlinnPlastic;
 pub use car_paint::{CarPaint, CarPaintLobe};
 pub use coated_glossy::CoatedGlossy;
@@ -177,17 +178,21 @@ fn canonical(x: f32) -> f32 {
 /// A unit direction, or None for zero or non-finite input: how every entry point here takes
 /// its directions.
 pub fn unit_direction(w: Vec3) -> Option<Vec3> {
-    w.try_normalize()
+    math::try_normalize(w)
 }
 
 /// A BSDF value as returned: non-finite ones (never meant) become 0.
 fn finite_or_zero(f: Vec3) -> Vec3 {
-    if f.is_finite() { f } else { Vec3::ZERO }
+    if math::is_finite_vec3(f) {
+        f
+    } else {
+        Vec3::ZERO
+    }
 }
 
 /// A density as returned: 0 unless finite and positive.
 fn density_or_zero(pdf: f32) -> f32 {
-    if pdf.is_finite() && pdf > 0.0 {
+    if pdf > 0.0 && pdf <= f32::MAX {
         pdf
     } else {
         0.0
@@ -467,7 +472,8 @@ impl Bsdf {
 #[inline(always)]
 fn checked_sample(sample: Option<BsdfSample>) -> Option<BsdfSample> {
     let s = sample?;
-    (s.wi.is_finite() && s.f.is_finite() && s.pdf.is_finite() && s.pdf > 0.0).then_some(s)
+    (math::is_finite_vec3(s.wi) & math::is_finite_vec3(s.f) & (s.pdf > 0.0) & (s.pdf <= f32::MAX))
+        .then_some(s)
 }
 
 /// A Lambertian BSDF's sample for a canonical `u`. The cosine warp of a canonical `u` gives a
@@ -477,7 +483,7 @@ fn checked_sample(sample: Option<BsdfSample>) -> Option<BsdfSample> {
 fn sample_lambertian(reflectance: Vec3, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
     Lambertian { reflectance }
         .sample(wo, u)
-        .filter(|s| s.f.is_finite())
+        .filter(|s| math::is_finite_vec3(s.f))
 }
 
 /// Smooth glass's sample, checked as [`Bsdf::sample`] checks every sample but the Lambertian's.

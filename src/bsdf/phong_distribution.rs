@@ -19,6 +19,7 @@
 
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 
+use crate::math::try_normalize;
 use glam::{Vec2, Vec3};
 
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -103,7 +104,7 @@ impl PhongDistribution {
 
     /// The density of `wi` reflected about a sampled half vector, for `wo` and `wi` above.
     pub fn reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let Some(h) = (wo + wi).try_normalize() else {
+        let Some(h) = try_normalize(wo + wi) else {
             return 0.0;
         };
         let cos_oh = wo.dot(h);

@@ -24,6 +24,7 @@ use super::BsdfSample;
 use super::dielectric::{blend_by_normal_fresnel, clamp_eta, refract};
 use super::fresnel::fr_dielectric;
 use super::microfacet_distribution::{Masking, Microfacet};
+use crate::math::try_normalize;
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -60,7 +61,7 @@ impl RoughDielectric {
             (false, true) => self.eta(),
             (false, false) => 1.0 / self.eta(),
         };
-        let wm = (wi * etap + wo).try_normalize()?;
+        let wm = try_normalize(wi * etap + wo)?;
         let wm = if wm.z < 0.0 { -wm } else { wm };
         if wm.dot(wi) * wi.z <= 0.0 || wm.dot(wo) * wo.z <= 0.0 {
             return None;

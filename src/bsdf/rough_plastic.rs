@@ -26,6 +26,7 @@ use super::dielectric::{clamp_eta, refract};
 use super::fresnel::fr_dielectric;
 use super::microfacet::TrowbridgeReitz;
 use super::plastic::{specular_probability, summed_base};
+use crate::math::try_normalize;
 use crate::sampling::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -148,7 +149,7 @@ impl RoughPlastic {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
-        let Some(h) = (wo + wi).try_normalize() else {
+        let Some(h) = try_normalize(wo + wi) else {
             return Vec3::ZERO;
         };
         let d = &self.distribution;
@@ -167,7 +168,7 @@ impl RoughPlastic {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        let Some(h) = (wo + wi).try_normalize() else {
+        let Some(h) = try_normalize(wo + wi) else {
             return 0.0;
         };
         let p_specular = self.specular_probability(wo);

@@ -2,6 +2,7 @@
 //! light sampling), one light sample (next-event estimation), one BSDF sample for the next ray,
 //! Russian roulette. Veach 1997 ch. 9 for the MIS, pbrt-v4 §13.4 for the structure.
 
+use crate::math;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
@@ -166,7 +167,7 @@ fn shade_scattering(
                         power_heuristic(1, light_pdf, 1, bsdf_pdf)
                     };
                     let contribution = *path.throughput * f * sample.radiance * weight / light_pdf;
-                    contribution.is_finite().then(|| {
+                    math::is_finite_vec3(contribution).then(|| {
                         ShadowRay::towards(surface, sample.wi, sample.distance, contribution)
                     })
                 });

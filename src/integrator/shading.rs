@@ -15,7 +15,7 @@ use crate::light::LightTable;
 use crate::material::MaterialTable;
 use crate::material::bump::bumped_normal;
 use crate::material::texture::TextureTable;
-use crate::math::offset_ray_origin;
+use crate::math::{self, offset_ray_origin};
 use crate::sampling::PathRng;
 use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
@@ -132,7 +132,7 @@ impl PathSlots<'_> {
     /// Adds `light` to the path's radiance; a non-finite value (a bug, never a feature of the
     /// scene) is dropped rather than let through to the film.
     pub fn add_radiance(&mut self, light: Vec3) {
-        if light.is_finite() {
+        if math::is_finite_vec3(light) {
             *self.radiance += light;
         }
     }
@@ -170,7 +170,7 @@ impl PathSlots<'_> {
         *self.direction = direction;
         *self.vertex = vertex;
         *self.depth += 1;
-        if !throughput.is_finite() || throughput == Vec3::ZERO {
+        if !math::is_finite_vec3(throughput) || throughput == Vec3::ZERO {
             *self.alive = false;
         }
     }
