@@ -145,7 +145,6 @@ impl Microfacet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::normalize_or;
     use crate::sampling::warp::uniform_sphere;
 
     /// The shared terms are the separate ones to the bit, for both distributions, both forms of
