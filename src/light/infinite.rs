@@ -397,6 +397,18 @@ mod tests {
     use super::*;
     use crate::sampling::PathRng;
 
+    /// A `w` x `h` image of `texels`, rows from the top, unscaled and unwrapped.
+    fn image_of(w: usize, h: usize, texels: Vec<Vec3>) -> ImageTexture {
+        ImageTexture {
+            width: w as u32,
+            height: h as u32,
+            texels: Arc::new(texels),
+            scale: Vec2::ONE,
+            delta: Vec2::ZERO,
+            wrap: Default::default(),
+        }
+    }
+
     /// A 64 x 32 map constant along each column: grey 0.5 with a band of three columns at 40
     /// (a sun's contrast), 0.5 / 40 / 0.5 steps that the bilinear lookup ramps across.
     fn banded_sky() -> Environment {
@@ -410,14 +422,7 @@ mod tests {
                 })
             })
             .collect();
-        let image = ImageTexture {
-            width: w as u32,
-            height: h as u32,
-            texels: Arc::new(texels),
-            scale: Vec2::ONE,
-            delta: Vec2::ZERO,
-            wrap: Default::default(),
-        };
+        let image = image_of(w, h, texels);
         Environment::new(&InfiniteLight {
             radiance: Vec3::ONE,
             map: Some(image),
@@ -436,14 +441,7 @@ mod tests {
         let texels: Vec<Vec3> = (0..w * h)
             .map(|t| Vec3::new(t as f32 + 1.0, (t * t % 7) as f32 + 0.5, 20.0 - t as f32))
             .collect();
-        let image = ImageTexture {
-            width: w as u32,
-            height: h as u32,
-            texels: Arc::new(texels.clone()),
-            scale: Vec2::ONE,
-            delta: Vec2::ZERO,
-            wrap: Default::default(),
-        };
+        let image = image_of(w, h, texels.clone());
         let map = EnvironmentMap::new(&image, Mat3::IDENTITY);
         let formula = |uv: Vec2| {
             let x = (uv.x * w as f32 - 0.5).rem_euclid(w as f32);
@@ -486,14 +484,7 @@ mod tests {
         let texels: Vec<Vec3> = (0..w * h)
             .map(|t| Vec3::splat(((t * 7919) % 13) as f32 + 0.25))
             .collect();
-        let image = ImageTexture {
-            width: w as u32,
-            height: h as u32,
-            texels: Arc::new(texels),
-            scale: Vec2::ONE,
-            delta: Vec2::ZERO,
-            wrap: Default::default(),
-        };
+        let image = image_of(w, h, texels);
         let map = EnvironmentMap::new(&image, Mat3::IDENTITY);
         let mut points: Vec<Vec2> = (0..=120)
             .flat_map(|a| (0..=100).map(move |b| Vec2::new(a as f32 / 120.0, b as f32 / 100.0)))
