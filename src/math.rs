@@ -206,11 +206,7 @@ mod tests {
             Vec3::new(f32::NAN, 1.0, 0.0),
             Vec3::new(-0.0, -0.0, -0.0),
         ];
-        for k in 0..10_000 {
-            let t = k as f32 * 0.618_034;
-            let scale = 10f32.powi(k % 60 - 30);
-            vectors.push(Vec3::new(t.sin(), (1.3 * t).cos(), (0.7 * t).sin() - 0.2) * scale);
-        }
+        vectors.extend(vectors_of_every_scale());
         for v in vectors {
             let (got, expected) = (normalize_or(v, fallback), v.normalize_or(fallback));
             assert!(
@@ -222,7 +218,7 @@ mod tests {
 
     /// `is_finite` and `is_finite_vec3` agree with std and glam on NaN, the infinities, the
     /// largest finite values, zeros, subnormals and ordinary values; `try_normalize` is glam's
-    /// to the bit on the vectors of [`normalize_or_is_glams`].
+    /// to the bit on them and on vectors of every scale.
     #[test]
     fn finiteness_tests_are_stds() {
         let values = [
@@ -251,13 +247,20 @@ mod tests {
                 assert_eq!(bits(try_normalize(v)), bits(v.try_normalize()), "{v}");
             }
         }
-        for k in 0..10_000 {
-            let t = k as f32 * 0.618_034;
-            let scale = 10f32.powi(k % 80 - 40);
-            let v = Vec3::new(t.sin(), (1.3 * t).cos(), (0.7 * t).sin() - 0.2) * scale;
+        for v in vectors_of_every_scale() {
             let bits = |v: Option<Vec3>| v.map(|v| v.to_array().map(f32::to_bits));
             assert_eq!(bits(try_normalize(v)), bits(v.try_normalize()), "{v}");
         }
+    }
+
+    /// 10,000 vectors in all directions at scales from 1e-40 (lengths that underflow) to 1e39
+    /// (lengths that overflow).
+    fn vectors_of_every_scale() -> impl Iterator<Item = Vec3> {
+        (0..10_000).map(|k| {
+            let t = k as f32 * 0.618_034;
+            let scale = 10f32.powi(k % 80 - 40);
+            Vec3::new(t.sin(), (1.3 * t).cos(), (0.7 * t).sin() - 0.2) * scale
+        })
     }
 
     #[test]
