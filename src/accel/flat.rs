@@ -223,7 +223,7 @@ impl<S: Lanes> Group<S> {
         if !planes.is_empty() {
             let mut t_maxs = [f32::NAN; MAX_LANES];
             t_max.store(&mut t_maxs);
-            for_each_lane(S::bits(usable), |lane| {
+            for_each_bit(u64::from(S::bits(usable)), |lane| {
                 let (o, d) = ray(lane);
                 let (o, d) = (Vec3A::from(o), Vec3A::from(d));
                 for plane in planes {
@@ -356,16 +356,7 @@ fn disk_lanes<S: Lanes>(disk: &FlatDisk, rays: &Rays<S>, t_max: S) -> (S::Mask, 
     (hit, t)
 }
 
-/// Calls `f(lane)` for each bit set in `bits`.
-#[inline(always)]
-fn for_each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
-    while bits != 0 {
-        f(bits.trailing_zeros() as usize);
-        bits &= bits - 1;
-    }
-}
-
-/// Calls `f(i)` for each bit `i` set in `bits`.
+/// Calls `f(i)` for each bit `i` set in `bits` (a group's lanes, or a list's primitives).
 #[inline(always)]
 fn for_each_bit(mut bits: u64, mut f: impl FnMut(usize)) {
     while bits != 0 {
@@ -676,66 +667,66 @@ impl Flat {
         occluded: &mut [bool],
     ) {
         let (rays, t_min, invisible) = (query.rays, query.t_min, &query.invisible);
-        {
-            let group = Group::<S>::load_packed(packed, rays, t_min, first, query.planes);
-            let (lanes, t_max) = (&group.rays, group.t_max);
-            let planes_hit = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
-                bits | ((prim != NO_HIT) as u32) << lane
-            });
-            let mut passed = 0;
-            for_each_bit(invisible.triangles, |i| {
-                if let Some((hit, ..)) = triangle_lanes(&self.triangles[i], lanes, t_max) {
-                    passed |= S::bits(hit);
+        let group = Group::<S>::load_packed(packed, rays, t_min, first, query.planes);
+        let (lanes, t_max) = (&group.rays, group.t_max);
+        let planes_hit = (group.prim.iter().enumerate()).fold(0u32, |bits, (lane, &prim)| {
+            bits | ((prim != NO_HIT) as u32) << lane
+        });
+        let mut passed = 0;
+        for_each_bit(invisible.triangles, |i| {
+            if let Some((hit, ..)) = triangle_lanes(&self.triangles[i], lanes, t_max) {
+                passed |= S::bits(hit);
+            }
+        });
+        for_each_bit(invisible.spheres, |i| {
+            passed |= S::bits(sphere_lanes(&self.spheres[i], lanes, t_max).0);
+        });
+        for_each_bit(invisible.disks, |i| {
+            passed |= S::bits(disk_lanes(&self.disks[i], lanes, t_max).0);
+        });
+        // Settled lanes: those an opaque primitive blocks, and those that can hit nothing
+        // (NaN).
+        let mut blocked = planes_hit;
+        let unusable = S::bits(t_max.ne(t_max));
+        let all = (1u32 << S::LANES) - 1;
+        'primitives: {
+            for (i, tri) in self.triangles.iter().enumerate() {
+                if (blocked | unusable) == all {
+                    break 'primitives;
                 }
-            });
-            for_each_bit(invisible.spheres, |i| {
-                passed |= S::bits(sphere_lanes(&self.spheres[i], lanes, t_max).0);
-            });
-            for_each_bit(invisible.disks, |i| {
-                passed |= S::bits(disk_lanes(&self.disks[i], lanes, t_max).0);
-            });
-            // Settled lanes: those an opaque primitive blocks, and those that can hit nothing
-            // (NaN).
-            let mut blocked = planes_hit;
-            let unusable = S::bits(t_max.ne(t_max));
-            let all = (1u32 << S::LANES) - 1;
-            'primitives: {
-                for (i, tri) in self.triangles.iter().enumerate() {
-                    if (blocked | unusable) == all {
-                        break 'primitives;
-                    }
-                    if invisible.triangles >> i & 1 == 0
-                        && let Some((hit, ..)) = triangle_lanes(tri, lanes, t_max)
-                    {
-                        blocked |= S::bits(hit);
-                    }
-                }
-                for (i, sphere) in self.spheres.iter().enumerate() {
-                    if (blocked | unusable) == all {
-                        break 'primitives;
-                    }
-                    if invisible.spheres >> i & 1 == 0 {
-                        blocked |= S::bits(sphere_lanes(sphere, lanes, t_max).0);
-                    }
-                }
-                for (i, disk) in self.disks.iter().enumerate() {
-                    if (blocked | unusable) == all {
-                        break 'primitives;
-                    }
-                    if invisible.disks >> i & 1 == 0 {
-                        blocked |= S::bits(disk_lanes(disk, lanes, t_max).0);
-                    }
+                if invisible.triangles >> i & 1 == 0
+                    && let Some((hit, ..)) = triangle_lanes(tri, lanes, t_max)
+                {
+                    blocked |= S::bits(hit);
                 }
             }
-            let (decided, undecided) = if query.walk_blocked {
-                (0, blocked)
-            } else {
-                (blocked & !passed, blocked & passed)
-            };
-            let ray = |lane: usize| packed.index[first + lane] as usize;
-            for_each_lane(decided, |lane| occluded[ray(lane)] = true);
-            for_each_lane(undecided, |lane| occluded[ray(lane)] = walk(ray(lane)));
+            for (i, sphere) in self.spheres.iter().enumerate() {
+                if (blocked | unusable) == all {
+                    break 'primitives;
+                }
+                if invisible.spheres >> i & 1 == 0 {
+                    blocked |= S::bits(sphere_lanes(sphere, lanes, t_max).0);
+                }
+            }
+            for (i, disk) in self.disks.iter().enumerate() {
+                if (blocked | unusable) == all {
+                    break 'primitives;
+                }
+                if invisible.disks >> i & 1 == 0 {
+                    blocked |= S::bits(disk_lanes(disk, lanes, t_max).0);
+                }
+            }
         }
+        let (decided, undecided) = if query.walk_blocked {
+            (0, blocked)
+        } else {
+            (blocked & !passed, blocked & passed)
+        };
+        let ray = |lane: usize| packed.index[first + lane] as usize;
+        for_each_bit(u64::from(decided), |lane| occluded[ray(lane)] = true);
+        for_each_bit(u64::from(undecided), |lane| {
+            occluded[ray(lane)] = walk(ray(lane))
+        });
     }
 }
 
