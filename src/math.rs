@@ -85,7 +85,7 @@ pub fn sin_cos_pi(x: f32) -> (f32, f32) {
 /// folded).
 pub fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
     let rcp = 1.0 / v.length();
-    if rcp > 0.0 && rcp <= f32::MAX {
+    if is_positive_finite(rcp) {
         v * rcp
     } else {
         fallback
@@ -96,7 +96,13 @@ pub fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
 /// written as comparisons as in [`normalize_or`]: None when `v` is zero or not finite.
 pub fn try_normalize(v: Vec3) -> Option<Vec3> {
     let rcp = 1.0 / v.length();
-    (rcp > 0.0 && rcp <= f32::MAX).then(|| v * rcp)
+    is_positive_finite(rcp).then(|| v * rcp)
+}
+
+/// `x.is_finite() && x > 0.0` for every input (false for NaN), as two float comparisons where
+/// LLVM folds `is_finite` with the other test into integer ones (see [`normalize_or`]).
+pub fn is_positive_finite(x: f32) -> bool {
+    x > 0.0 && x <= f32::MAX
 }
 
 /// `x.is_finite()` for every input (NaN compares false, and |x| <= f32::MAX excludes exactly
@@ -216,9 +222,9 @@ mod tests {
         }
     }
 
-    /// `is_finite` and `is_finite_vec3` agree with std and glam on NaN, the infinities, the
-    /// largest finite values, zeros, subnormals and ordinary values; `try_normalize` is glam's
-    /// to the bit on them and on vectors of every scale.
+    /// `is_finite`, `is_positive_finite` and `is_finite_vec3` agree with std and glam on NaN,
+    /// the infinities, the largest finite values, zeros, subnormals and ordinary values;
+    /// `try_normalize` is glam's to the bit on them and on vectors of every scale.
     #[test]
     fn finiteness_tests_are_stds() {
         let values = [
@@ -238,6 +244,7 @@ mod tests {
         ];
         for x in values {
             assert_eq!(is_finite(x), x.is_finite(), "{x}");
+            assert_eq!(is_positive_finite(x), x.is_finite() && x > 0.0, "{x}");
             for y in values {
                 let v = Vec3::new(x, y, 1.0);
                 assert_eq!(is_finite_vec3(v), v.is_finite(), "{v}");

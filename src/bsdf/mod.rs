@@ -192,7 +192,7 @@ fn finite_or_zero(f: Vec3) -> Vec3 {
 
 /// A density as returned: 0 unless finite and positive.
 fn density_or_zero(pdf: f32) -> f32 {
-    if pdf > 0.0 && pdf <= f32::MAX {
+    if math::is_positive_finite(pdf) {
         pdf
     } else {
         0.0
@@ -472,7 +472,7 @@ impl Bsdf {
 #[inline(always)]
 fn checked_sample(sample: Option<BsdfSample>) -> Option<BsdfSample> {
     let s = sample?;
-    (math::is_finite_vec3(s.wi) & math::is_finite_vec3(s.f) & (s.pdf > 0.0) & (s.pdf <= f32::MAX))
+    (math::is_finite_vec3(s.wi) & math::is_finite_vec3(s.f) & math::is_positive_finite(s.pdf))
         .then_some(s)
 }
 
