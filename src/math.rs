@@ -1,5 +1,7 @@
 //! Small numeric and geometric helpers shared by the stages.
 
+use std::ops::{Add, Mul, Sub};
+
 use glam::Vec3;
 
 /// `x.floor()` to the bit, without the call to libm's `floorf` that baseline x86-64 (no SSE4.1
@@ -57,19 +59,31 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     angle.copysign(y)
 }
 
+/// sin x and cos x for |x| <= pi/4 without range reduction: the minimax polynomials of Cephes'
+/// `sinf.c` (S. L. Moshier), which Dr.Jit's `sincos` also evaluates, good to about 1 ulp there.
+/// Generic over the number type so that the shading stage's eight-lane kernel evaluates the
+/// very same operations on each lane.
+pub fn sin_cos_eighth_turn<T>(x: T) -> (T, T)
+where
+    T: Copy + From<f32> + Add<Output = T> + Sub<Output = T> + Mul<Output = T>,
+{
+    let k = T::from;
+    let x2 = x * x;
+    let sin = x + x * x2 * (k(-1.666_665_5e-1) + x2 * (k(8.332_161e-3) + x2 * k(-1.951_529_6e-4)));
+    let cos = k(1.0) - k(0.5) * x2
+        + x2 * x2 * (k(4.166_664_6e-2) + x2 * (k(-1.388_731_6e-3) + x2 * k(2.443_315_7e-5)));
+    (sin, cos)
+}
+
 /// (sin(pi x), cos(pi x)) within 1.2e-7 (an ulp of 1) of the exact values (tested on [-2, 2]),
 /// without libm's `sincosf` (about 50 instructions a call) and the rounding of pi x before it
 /// (up to 4e-7 there): x = q / 2 + r with q the integer nearest 2x and |r| <= 1/4, exactly (r
-/// is a multiple of x's ulp no larger than x, for |x| < 2^22), then Cephes' `sinf` and `cosf`
-/// minimax polynomials on t = pi r in [-pi/4, pi/4], and the quadrant q mod 4 swapping and
-/// negating them. sin and cos are exactly 0 and +-1 at multiples of 1/2.
+/// is a multiple of x's ulp no larger than x, for |x| < 2^22), then [`sin_cos_eighth_turn`] of
+/// t = pi r in [-pi/4, pi/4], and the quadrant q mod 4 swapping and negating them. sin and cos are exactly 0 and +-1 at multiples of 1/2.
 pub fn sin_cos_pi(x: f32) -> (f32, f32) {
     let q = floor(2.0 * x + 0.5);
     let r = x - 0.5 * q;
-    let t = std::f32::consts::PI * r;
-    let z = t * t;
-    let sin = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * t + t;
-    let cos = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    let (sin, cos) = sin_cos_eighth_turn(std::f32::consts::PI * r);
     match (q as i32) & 3 {
         0 => (sin, cos),
         1 => (cos, -sin),

@@ -23,7 +23,7 @@ use super::shading::{PathBlock, ShadowRay};
 use crate::accel::vex;
 use crate::bsdf::ONE_MINUS_EPSILON;
 use crate::light::area::EmitterParallelogram;
-use crate::sampling::warp::sin_cos_eighth_turn;
+use crate::math::sin_cos_eighth_turn;
 
 /// A light sample for a vertex: the direction and distance to the light point, its radiance
 /// and the density of choosing it (light selection times the light's own density).

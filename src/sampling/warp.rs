@@ -1,9 +1,10 @@
 //! Warps from [0,1)^2 to the domains of light transport, with their densities.
 
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4, PI};
-use std::ops::{Add, Mul, Sub};
 
 use glam::{Vec2, Vec3};
+
+use crate::math::sin_cos_eighth_turn;
 
 /// Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square": maps concentric squares
 /// of [-1,1]^2 to concentric circles, a uniform point on the unit disk (pbrt-v3 §13.6.2).
@@ -28,22 +29,6 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     } else {
         Vec2::new(radius * x, radius * y)
     }
-}
-
-/// sin x and cos x for |x| <= pi/4 without range reduction: the minimax polynomials of Cephes'
-/// `sinf.c` (S. L. Moshier), which Dr.Jit's `sincos` also evaluates, good to about 1 ulp there.
-/// Generic over the number type so that the shading stage's eight-lane kernel evaluates the
-/// very same operations on each lane.
-pub(crate) fn sin_cos_eighth_turn<T>(x: T) -> (T, T)
-where
-    T: Copy + From<f32> + Add<Output = T> + Sub<Output = T> + Mul<Output = T>,
-{
-    let k = T::from;
-    let x2 = x * x;
-    let sin = x + x * x2 * (k(-1.666_665_5e-1) + x2 * (k(8.332_161e-3) + x2 * k(-1.951_529_6e-4)));
-    let cos = k(1.0) - k(0.5) * x2
-        + x2 * x2 * (k(4.166_664_6e-2) + x2 * (k(-1.388_731_6e-3) + x2 * k(2.443_315_7e-5)));
-    (sin, cos)
 }
 
 /// Malley's method: a uniform disk point lifted to the hemisphere (z up) has density
