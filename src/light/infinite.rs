@@ -54,6 +54,10 @@ struct EnvironmentMap {
     compensated: Option<Bilinear2D>,
     light_to_world: Mat3,
     world_to_light: Mat3,
+    /// Whether `light_to_world` keeps lengths (M^T M = I within 1e-6: a rotation, as a sky's
+    /// transform is): a sampled direction, unit in the map's frame, then stays unit without
+    /// the normalisation (a square root and a division in each sample's dependency chain).
+    keeps_lengths: bool,
 }
 
 impl EnvironmentMap {
@@ -104,6 +108,8 @@ impl EnvironmentMap {
             compensated,
             light_to_world,
             world_to_light: light_to_world.inverse(),
+            keeps_lengths: (light_to_world.transpose() * light_to_world)
+                .abs_diff_eq(Mat3::IDENTITY, 1e-6),
         }
     }
 
@@ -288,9 +294,15 @@ impl Environment {
                 // The radiance is read in the sampled cell at the sampled fractions: the round
                 // trip through the direction (a rotation, atan2 and acos) cost half of the
                 // sample and only moved (u, v) by rounding, and the cell is the lookup's. The
-                // (u, v) -> direction map has Jacobian 2 pi^2 sin(theta).
+                // (u, v) -> direction map has Jacobian 2 pi^2 sin(theta). With M^T M = I + E,
+                // |E_ij| <= 1e-6, |M d|^2 = 1 + d^T E d: a unit d stays unit within 2e-6.
+                let wi = map.light_to_world * local;
                 (
-                    math::normalize_or(map.light_to_world * local, Vec3::Z),
+                    if map.keeps_lengths {
+                        wi
+                    } else {
+                        math::normalize_or(wi, Vec3::Z)
+                    },
                     self.radiance * map.radiance_in(sample.cell),
                     sample.pdf / (2.0 * PI * PI * sin_theta),
                 )
@@ -506,6 +518,41 @@ mod tests {
                     (got - expected).abs() <= 1e-4 * expected + 1e-5,
                     "{uv}: {got} against {expected}"
                 );
+            }
+        }
+    }
+
+    /// Sampled directions are unit within 2e-6 (the bound derived at `keeps_lengths`) whether
+    /// the sky's transform is a rotation, whose product keeps them unit without normalising,
+    /// or scales (a scene may give one), where they must be normalised; a scaled transform
+    /// taken for a rotation gives lengths of 2 or 0.5.
+    #[test]
+    fn sampled_directions_are_unit_under_any_transform() {
+        let texels = (0..64 * 32)
+            .map(|i| Vec3::splat(((i * 7919) % 13) as f32 + 0.25))
+            .collect();
+        let image = image_of(64, 32, texels);
+        let rotation = Mat3::from_rotation_y(0.6) * Mat3::from_rotation_x(0.3);
+        for (light_to_world, rotates) in [
+            (rotation, true),
+            (rotation * 2.0, false),
+            (
+                Mat3::from_diagonal(Vec3::new(1.0, 0.5, 1.0)) * rotation,
+                false,
+            ),
+        ] {
+            let sky = Environment::new(&InfiniteLight {
+                radiance: Vec3::ONE,
+                map: Some(image.clone()),
+                light_to_world,
+            });
+            assert_eq!(sky.map.as_ref().unwrap().keeps_lengths, rotates);
+            let mut rng = PathRng::new(5, 0, 0);
+            for _ in 0..10_000 {
+                for sample in [sky.sample(rng.next_2d()), sky.sample_for_mis(rng.next_2d())] {
+                    let wi = sample.expect("a sample").wi;
+                    assert!((wi.length() - 1.0).abs() <= 2e-6, "{light_to_world}: {wi}");
+                }
             }
         }
     }
