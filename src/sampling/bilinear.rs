@@ -76,6 +76,11 @@ impl Bilinear2D {
         }
     }
 
+    /// The vertices' positions in y.
+    pub fn ys(&self) -> &[f32] {
+        &self.ys.positions
+    }
+
     /// The interpolant's integral over the grid (0 if it overflows f32).
     pub fn integral(&self) -> f32 {
         self.integral
