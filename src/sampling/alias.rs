@@ -92,6 +92,13 @@ impl AliasTable {
     /// Picks an index with probability proportional to its weight: (index, probability, `u`
     /// remapped to [0, 1), uniform and independent of the choice, so it can be reused).
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
+        let (index, remapped) = self.sample_index(u);
+        (index, self.bins[index].probability, remapped)
+    }
+
+    /// [`AliasTable::sample`] without the probability, for a caller that has the density
+    /// elsewhere: one dependent load fewer.
+    pub fn sample_index(&self, u: f32) -> (usize, f32) {
         let u = if u.is_nan() {
             0.0
         } else {
@@ -99,8 +106,8 @@ impl AliasTable {
         };
         // One bin (one light, one triangle) is the choice, and u is already uniform: what the
         // general case below gives (bin 0, frac u, threshold 1), without its arithmetic.
-        if let [only] = self.bins.as_slice() {
-            return (0, only.probability, u);
+        if self.bins.len() == 1 {
+            return (0, u);
         }
         // Bin numbers in u32 (the table holds at most u32::MAX bins: `alias` is a u32), and
         // u n truncated through i32 (u n >= 0, and below 2^31 for tables of fewer than 2^31 bins):
@@ -119,11 +126,7 @@ impl AliasTable {
                 (frac - entry.threshold) / (1.0 - entry.threshold),
             )
         };
-        (
-            index as usize,
-            self.bins[index as usize].probability,
-            remapped.clamp(0.0, ONE_MINUS_EPSILON),
-        )
+        (index as usize, remapped.clamp(0.0, ONE_MINUS_EPSILON))
     }
 }
 

@@ -8,26 +8,29 @@
 //! constant. Mitsuba 3's environment map does the same with its `Hierarchical2D` warp over the
 //! texels as vertices (`src/emitters/envmap.cpp`).
 //!
-//! Sampling: a cell is chosen with probability its integral over the total (a row of cells
-//! from the marginal, then a cell from that row's conditional, each by an alias table: O(1),
-//! where inverting their CDFs took two binary searches); inside the cell, y from the
-//! marginal of the bilinear patch (linear in y), then x from the patch's conditional at that y
-//! (linear in x): pbrt-v4's `SampleBilinear` (`util/sampling.h`).
+//! Sampling: a cell is chosen with probability its integral over the total, by one alias table
+//! over all cells (O(1); a row from the marginal and then a cell from that row's conditional,
+//! as before, took two alias draws, one dependent on the other); `u.x` picks the cell and its
+//! remainder, uniform and independent of the choice, is reused inside the cell. There y is
+//! drawn from the marginal of the bilinear patch (linear in y) with `u.y`, then x from the
+//! patch's conditional at that y (linear in x): pbrt-v4's `SampleBilinear`
+//! (`util/sampling.h`).
 
 use glam::Vec2;
 
-use super::{AliasTable, ONE_MINUS_EPSILON};
+use super::{AliasTable, Divisor, ONE_MINUS_EPSILON};
 
 #[derive(Clone, Debug)]
 pub struct Bilinear2D {
-    /// Vertex values, row-major: `ys.len()` rows of `xs.len()`.
-    values: Vec<f32>,
+    /// Vertex values over the integral, row-major (`ys.len()` rows of `xs.len()`): the
+    /// interpolant of these is the density, without a division per sample or lookup.
+    density: Vec<f32>,
     xs: Axis,
     ys: Axis,
-    /// Over the rows of cells, by their integrals.
-    rows: AliasTable,
-    /// Per row of cells, over its cells by their integrals.
-    cells: Vec<AliasTable>,
+    /// Over all cells, row-major, by their integrals.
+    cells: AliasTable,
+    /// Cells per row: a cell's index splits into row and column by multiplication.
+    columns: Divisor,
     /// 0 when not finite (the values' f32 sum overflowed): then nothing is sampled.
     integral: f32,
 }
@@ -56,20 +59,26 @@ impl Bilinear2D {
                     .collect()
             })
             .collect();
-        let row_integrals: Vec<f64> = cell_integrals.iter().map(|row| row.iter().sum()).collect();
-        let to_f32 = |row: &[f64]| row.iter().map(|&v| v as f32).collect::<Vec<f32>>();
-        let integral = row_integrals.iter().sum::<f64>() as f32;
+        let integral = cell_integrals.iter().flatten().sum::<f64>() as f32;
+        let integral = if integral.is_finite() { integral } else { 0.0 };
+        let cell_integrals: Vec<f32> = cell_integrals.iter().flatten().map(|&v| v as f32).collect();
         Self {
-            rows: AliasTable::new(&to_f32(&row_integrals)),
-            cells: cell_integrals
-                .iter()
-                .map(|row| AliasTable::new(&to_f32(row)))
-                .collect(),
-            integral: if integral.is_finite() { integral } else { 0.0 },
-            values,
+            cells: AliasTable::new(&cell_integrals),
+            columns: Divisor::new((nx - 1) as u32),
+            density: if integral > 0.0 {
+                values.iter().map(|&v| v / integral).collect()
+            } else {
+                values
+            },
+            integral,
             xs: Axis::new(xs),
             ys: Axis::new(ys),
         }
+    }
+
+    /// The vertices' positions in y.
+    pub fn ys(&self) -> &[f32] {
+        &self.ys.positions
     }
 
     /// The interpolant's integral over the grid (0 if it overflows f32).
@@ -83,16 +92,20 @@ impl Bilinear2D {
         if self.integral <= 0.0 {
             return None;
         }
-        let (j, _, uy) = self.rows.sample(u.y);
-        let (i, _, ux) = self.cells[j].sample(u.x);
+        let (k, ux) = self.cells.sample_index(u.x);
+        let k = k as u32;
+        let (j, i) = (
+            self.columns.quotient(k) as usize,
+            self.columns.remainder(k) as usize,
+        );
         let [v00, v10, v01, v11] = self.corners(i, j);
-        let ty = sample_linear(uy, v00 + v10, v01 + v11);
+        let ty = sample_linear(u.y, v00 + v10, v01 + v11);
         let (left, right) = (lerp(v00, v01, ty), lerp(v10, v11, ty));
         let tx = sample_linear(ux, left, right);
         let (xs, ys) = (&self.xs.positions, &self.ys.positions);
         Some(BilinearSample {
             point: Vec2::new(lerp(xs[i], xs[i + 1], tx), lerp(ys[j], ys[j + 1], ty)),
-            pdf: lerp(left, right, tx) / self.integral,
+            pdf: lerp(left, right, tx),
             cell: GridCell {
                 column: i,
                 row: j,
@@ -120,14 +133,14 @@ impl Bilinear2D {
         }
         let [v00, v10, v01, v11] = self.corners(cell.column, cell.row);
         let (tx, ty) = (cell.fraction.x, cell.fraction.y);
-        lerp(lerp(v00, v10, tx), lerp(v01, v11, tx), ty) / self.integral
+        lerp(lerp(v00, v10, tx), lerp(v01, v11, tx), ty)
     }
 
-    /// Cell (i, j)'s corner values: (x0, y0), (x1, y0), (x0, y1), (x1, y1); one bounds check
+    /// Cell (i, j)'s corner densities: (x0, y0), (x1, y0), (x0, y1), (x1, y1); one bounds check
     /// for the four, on the slice from the first to the last.
     fn corners(&self, i: usize, j: usize) -> [f32; 4] {
         let nx = self.xs.positions.len();
-        let values = &self.values[j * nx + i..][..nx + 2];
+        let values = &self.density[j * nx + i..][..nx + 2];
         [values[0], values[1], values[nx], values[nx + 1]]
     }
 }
