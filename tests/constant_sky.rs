@@ -68,7 +68,7 @@ fn almost_constant_map() -> ImageTexture {
         path: "almost-constant.exr".into(),
         width: 16,
         height: 8,
-        texels: Arc::new(texels),
+        texels: Arc::new(texels).into(),
         scale: Vec2::ONE,
         delta: Vec2::ZERO,
         wrap: Default::default(),
@@ -174,7 +174,7 @@ fn leaving_a_constant_sky_to_bsdf_sampling_is_unbiased_and_has_less_variance() {
     let almost = foton::material::texture::ImageTexture {
         width: almost.width,
         height: almost.height,
-        texels: almost.texels,
+        texels: almost.texels.to_linear(),
         scale: almost.scale,
         delta: almost.delta,
         wrap: almost.wrap,

@@ -134,7 +134,7 @@ fn sky_and_lamp() -> SceneDesc {
         path: "two-halves.exr".into(),
         width: 2,
         height: 1,
-        texels: std::sync::Arc::new(vec![Vec3::splat(0.25), Vec3::splat(0.35)]),
+        texels: std::sync::Arc::new(vec![Vec3::splat(0.25), Vec3::splat(0.35)]).into(),
         scale: glam::Vec2::ONE,
         delta: glam::Vec2::ZERO,
         wrap: Default::default(),

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use foton::material::texels::ReadTexel;
 use foton::scene::desc::{
     ColorParam, FilterKind, Geometry, LightDesc, MaterialDesc, SceneDesc, SceneError, SpotFalloff,
     ToneMap, Wrap,
@@ -509,13 +510,20 @@ fn imagemap_texture_decodes_with_gamma_gain_and_mapping() {
     assert_eq!((t.name.as_str(), t.width, t.height), ("wood", 2, 1));
     assert_eq!(t.path, dir.join("tex/grey.png"));
     let grey = (128.0f32 / 255.0).powf(2.2) * 2.0;
-    assert!(close(t.texels[0], Vec3::splat(grey)), "{:?}", t.texels[0]);
-    assert!(close(t.texels[1], Vec3::splat(2.0)));
+    assert!(
+        close(t.texels.texel(0), Vec3::splat(grey)),
+        "{:?}",
+        t.texels
+    );
+    assert!(close(t.texels.texel(1), Vec3::splat(2.0)));
     assert_eq!(
         (t.scale, t.delta),
         (Vec2::new(3.0, -1.0), Vec2::new(0.5, 1.0))
     );
-    assert!(close(s.textures[1].texels[0], Vec3::splat(128.0 / 255.0)));
+    assert!(close(
+        s.textures[1].texels.texel(0),
+        Vec3::splat(128.0 / 255.0)
+    ));
     assert_eq!(
         s.materials[0],
         MaterialDesc::Diffuse {
@@ -593,7 +601,7 @@ fn jpg_gif_and_bmp_textures_decode() {
     for t in &s.textures {
         assert_eq!((t.width, t.height), (2, 1));
         assert!(
-            (t.texels[1] - Vec3::ONE).abs().max_element() < 0.05,
+            (t.texels.texel(1) - Vec3::ONE).abs().max_element() < 0.05,
             "{}: {:?}",
             t.name,
             t.texels

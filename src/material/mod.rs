@@ -2,6 +2,7 @@
 //! surface point, to one BSDF (or none, for `null`).
 
 pub mod bump;
+pub mod texels;
 pub mod texture;
 
 use std::cell::Cell;

@@ -6,16 +6,17 @@ use std::sync::Arc;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
+use crate::material::texels::{ReadTexel, Texels};
 use crate::math::floor;
 use crate::texture::{Mapping2D, ShadingPoint, TexParam, TextureGraph, TextureNode};
 
-/// A linear RGB image with its uv mapping.
+/// An RGB image with its uv mapping, its texels kept as `T` (linear RGB by default).
 #[derive(Clone, Debug)]
-pub struct ImageTexture {
+pub struct ImageTexture<T = Arc<Vec<Vec3>>> {
     pub width: u32,
     pub height: u32,
     /// `width * height` texels, rows from the top.
-    pub texels: Arc<Vec<Vec3>>,
+    pub texels: T,
     /// (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped by `wrap`.
     pub scale: Vec2,
     pub delta: Vec2,
@@ -37,7 +38,7 @@ pub enum Wrap {
 /// Present only when the scene has textures.
 #[derive(Resource, Clone, Debug)]
 pub struct TextureTable {
-    pub textures: Vec<ImageTexture>,
+    pub textures: Vec<ImageTexture<Texels>>,
     pub graph: TextureGraph,
 }
 
@@ -68,24 +69,37 @@ impl TextureTable {
     /// Image `id` at `st`. The image's first row is t = 0 (LuxRender's convention; LuxBlend
     /// writes vscale -1, vdelta 1 to put Blender's v = 0 at the bottom).
     fn image(&self, id: usize, st: Vec2) -> Vec3 {
-        match self.textures.get(id) {
-            Some(texture) => sample_bilinear(texture, st * texture.scale + texture.delta),
-            None => Vec3::ZERO,
+        let Some(texture) = self.textures.get(id) else {
+            return Vec3::ZERO;
+        };
+        let st = st * texture.scale + texture.delta;
+        let (w, h, wrap) = (texture.width, texture.height, texture.wrap);
+        // One branch on the storage a lookup, not one a texel.
+        match &texture.texels {
+            Texels::Linear(texels) => sample_bilinear(texels.as_slice(), w, h, wrap, st),
+            Texels::Coded(texels) => sample_bilinear(&**texels, w, h, wrap, st),
+            Texels::Palette(texels) => sample_bilinear(&**texels, w, h, wrap, st),
         }
     }
 }
 
-/// Bilinear lookup; texel centres at half-integers. Inlined, the wrapped case's few dozen
-/// instructions go without a call's saved registers and its result through memory; the bounded
-/// case stays a call.
+/// Bilinear lookup in the `width` x `height` image of `texels`; texel centres at
+/// half-integers. Inlined, the wrapped case's few dozen instructions go without a call's saved
+/// registers and its result through memory; the bounded case stays a call.
 #[inline]
-pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
-    let (w, h) = (texture.width as i64, texture.height as i64);
+pub fn sample_bilinear<T: ReadTexel + ?Sized>(
+    texels: &T,
+    width: u32,
+    height: u32,
+    wrap: Wrap,
+    st: Vec2,
+) -> Vec3 {
+    let (w, h) = (width as i64, height as i64);
     if w == 0 || h == 0 || !st.is_finite() {
         return Vec3::ZERO;
     }
-    if texture.wrap != Wrap::Repeat {
-        return sample_bilinear_bounded(texture, st);
+    if wrap != Wrap::Repeat {
+        return sample_bilinear_bounded(texels, w, h, wrap, st);
     }
     let x = fraction(st.x) * w as f32 - 0.5;
     let y = fraction(st.y) * h as f32 - 0.5;
@@ -96,15 +110,20 @@ pub fn sample_bilinear(texture: &ImageTexture, st: Vec2) -> Vec3 {
     // integer division of `rem_euclid`.
     let (i0, i1) = neighbours(x0, w);
     let (j0, j1) = neighbours(y0, h);
-    let texel = |i: i64, j: i64| texture.texels[(j * w + i) as usize];
+    let texel = |i: i64, j: i64| texels.texel((j * w + i) as usize);
     (texel(i0, j0) * (1.0 - fx) + texel(i1, j0) * fx) * (1.0 - fy)
         + (texel(i0, j1) * (1.0 - fx) + texel(i1, j1) * fx) * fy
 }
 
 /// Bilinear lookup where texels outside the image are black, white or the nearest edge texel.
 #[inline(never)]
-fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
-    let (w, h) = (texture.width as i64, texture.height as i64);
+fn sample_bilinear_bounded<T: ReadTexel + ?Sized>(
+    texels: &T,
+    w: i64,
+    h: i64,
+    wrap: Wrap,
+    st: Vec2,
+) -> Vec3 {
     let x = st.x * w as f32 - 0.5;
     let y = st.y * h as f32 - 0.5;
     let (x0, y0) = (floor(x), floor(y));
@@ -113,10 +132,10 @@ fn sample_bilinear_bounded(texture: &ImageTexture, st: Vec2) -> Vec3 {
     let (i0, j0) = ((x0 as i64).clamp(-2, w + 1), (y0 as i64).clamp(-2, h + 1));
     let texel = |i: i64, j: i64| {
         let inside = (0..w).contains(&i) && (0..h).contains(&j);
-        match texture.wrap {
+        match wrap {
             Wrap::Black if !inside => Vec3::ZERO,
             Wrap::White if !inside => Vec3::ONE,
-            _ => texture.texels[(j.clamp(0, h - 1) * w + i.clamp(0, w - 1)) as usize],
+            _ => texels.texel((j.clamp(0, h - 1) * w + i.clamp(0, w - 1)) as usize),
         }
     };
     (texel(i0, j0) * (1.0 - fx) + texel(i0 + 1, j0) * fx) * (1.0 - fy)
@@ -148,9 +167,16 @@ fn neighbours(i: i64, n: i64) -> (i64, i64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::texels::{CodedTexels, PaletteTexels};
+
+    /// `texture` looked up at `st` (its scale and offset not applied).
+    fn sample(texture: &ImageTexture<Vec<Vec3>>, st: Vec2) -> Vec3 {
+        let (w, h) = (texture.width, texture.height);
+        sample_bilinear(texture.texels.as_slice(), w, h, texture.wrap, st)
+    }
 
     /// The lookup as written with `rem_euclid` throughout (the definition of repeat wrapping).
-    fn by_rem_euclid(texture: &ImageTexture, st: Vec2) -> Vec3 {
+    fn by_rem_euclid(texture: &ImageTexture<Vec<Vec3>>, st: Vec2) -> Vec3 {
         let (w, h) = (texture.width as i64, texture.height as i64);
         let x = st.x.rem_euclid(1.0) * w as f32 - 0.5;
         let y = st.y.rem_euclid(1.0) * h as f32 - 0.5;
@@ -172,7 +198,7 @@ mod tests {
         let texture = ImageTexture {
             width,
             height,
-            texels: Arc::new(texels),
+            texels,
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
             wrap: Wrap::Repeat,
@@ -187,7 +213,7 @@ mod tests {
         for &s in &coords {
             for &t in &coords {
                 let st = Vec2::new(s, t);
-                let (got, want) = (sample_bilinear(&texture, st), by_rem_euclid(&texture, st));
+                let (got, want) = (sample(&texture, st), by_rem_euclid(&texture, st));
                 assert_eq!(
                     got.to_array().map(f32::to_bits),
                     want.to_array().map(f32::to_bits)
@@ -220,7 +246,7 @@ mod tests {
             textures: vec![ImageTexture {
                 width: 3,
                 height: 2,
-                texels: Arc::new(texels),
+                texels: Arc::new(texels).into(),
                 scale: Vec2::new(1.0, 2.0),
                 delta: Vec2::new(0.25, 0.0),
                 wrap: Wrap::Repeat,
@@ -255,6 +281,78 @@ mod tests {
         assert!(black > 0 && lit > 0, "{black} black, {lit} lit");
     }
 
+    /// Asserts that lookups in `width` x `height` images of `linear` and of `kept` (the same
+    /// texels kept otherwise) agree to the bit, over many st and with every wrap.
+    fn assert_same_lookups(width: u32, height: u32, linear: Vec<Vec3>, kept: Texels) {
+        let image = |texels: Texels, wrap| ImageTexture {
+            width,
+            height,
+            texels,
+            scale: Vec2::new(1.3, -0.7),
+            delta: Vec2::new(0.1, 0.2),
+            wrap,
+        };
+        for wrap in [Wrap::Repeat, Wrap::Black, Wrap::White, Wrap::Clamp] {
+            let table = TextureTable {
+                textures: vec![
+                    image(Arc::new(linear.clone()).into(), wrap),
+                    image(kept.clone(), wrap),
+                ],
+                graph: TextureGraph::default(),
+            };
+            for k in 0..20_000 {
+                let st = Vec2::new(
+                    k as f32 * 0.000731 - 3.0,
+                    (k * 37 % 1009) as f32 * 0.0049 - 2.0,
+                );
+                let (want, got) = (table.image(0, st), table.image(1, st));
+                assert_eq!(
+                    got.to_array().map(f32::to_bits),
+                    want.to_array().map(f32::to_bits),
+                    "{wrap:?} at {st}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_8bit_image_looks_up_as_its_linear_texels_do_to_the_bit() {
+        // Every code in some channel, at unlike texels and channels, each code with a value
+        // of its own (a table read one code off gives another value).
+        let (width, height) = (16u32, 11u32);
+        let rgb: Vec<u8> = (0..3 * width * height)
+            .map(|k| (k * 97 + 13) as u8)
+            .collect();
+        let values: [f32; 256] =
+            std::array::from_fn(|code| (code as f32 / 255.0).powf(2.2) * 1.7 + 0.01);
+        let linear = rgb
+            .chunks(3)
+            .map(|c| Vec3::from_array([c[0], c[1], c[2]].map(|code| values[usize::from(code)])))
+            .collect();
+        let coded = Texels::Coded(Arc::new(CodedTexels::new(rgb, values)));
+        assert_same_lookups(width, height, linear, coded);
+    }
+
+    #[test]
+    fn a_palette_image_looks_up_as_its_linear_texels_do_to_the_bit() {
+        // 200 colours of distinct channels, named in a scrambled order by texels that use
+        // them all.
+        let (width, height) = (23u32, 13u32);
+        let colors: Vec<Vec3> = (0..200)
+            .map(|k| {
+                Vec3::new(
+                    k as f32 * 0.01,
+                    2.0 - k as f32 * 0.007,
+                    (k * k % 211) as f32,
+                )
+            })
+            .collect();
+        let indices: Vec<u8> = (0..width * height).map(|k| (k * 71 % 200) as u8).collect();
+        let linear = indices.iter().map(|&i| colors[usize::from(i)]).collect();
+        let palette = Texels::Palette(Arc::new(PaletteTexels::new(indices, &colors)));
+        assert_same_lookups(width, height, linear, palette);
+    }
+
     #[test]
     fn black_white_and_clamp_read_outside_texels_as_luxrender_does() {
         let t = [
@@ -266,7 +364,7 @@ mod tests {
         let texture = |wrap| ImageTexture {
             width: 2,
             height: 2,
-            texels: Arc::new(t.to_vec()),
+            texels: t.to_vec(),
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
             wrap,
@@ -278,26 +376,23 @@ mod tests {
         );
         // At a texel's centre the filter reads that texel alone, whatever the wrap.
         for image in [&black, &white, &clamp] {
-            assert_eq!(sample_bilinear(image, Vec2::new(0.75, 0.25)), t[1]);
+            assert_eq!(sample(image, Vec2::new(0.75, 0.25)), t[1]);
         }
         // At the image's corner (0, 0) the filter weighs four texels by 1/4, three outside.
         let corner = Vec2::ZERO;
-        assert_eq!(sample_bilinear(&black, corner), t[0] * 0.25);
-        assert_eq!(
-            sample_bilinear(&white, corner),
-            Vec3::splat(0.75) + t[0] * 0.25
-        );
-        assert_eq!(sample_bilinear(&clamp, corner), t[0]);
+        assert_eq!(sample(&black, corner), t[0] * 0.25);
+        assert_eq!(sample(&white, corner), Vec3::splat(0.75) + t[0] * 0.25);
+        assert_eq!(sample(&clamp, corner), t[0]);
         // Halfway between the two top texels' centres, on the top edge: two rows, one outside.
         let top = Vec2::new(0.5, 0.0);
-        assert_eq!(sample_bilinear(&black, top), (t[0] + t[1]) * 0.25);
-        assert_eq!(sample_bilinear(&clamp, top), (t[0] + t[1]) * 0.5);
+        assert_eq!(sample(&black, top), (t[0] + t[1]) * 0.25);
+        assert_eq!(sample(&clamp, top), (t[0] + t[1]) * 0.5);
         // Far outside (and past the i64 range): black, white, the nearest corner texel.
         for st in [Vec2::new(5.0, 7.0), Vec2::new(1e30, 1e30)] {
-            assert_eq!(sample_bilinear(&black, st), Vec3::ZERO);
-            assert_eq!(sample_bilinear(&white, st), Vec3::ONE);
-            assert_eq!(sample_bilinear(&clamp, st), t[3]);
+            assert_eq!(sample(&black, st), Vec3::ZERO);
+            assert_eq!(sample(&white, st), Vec3::ONE);
+            assert_eq!(sample(&clamp, st), t[3]);
         }
-        assert_eq!(sample_bilinear(&clamp, Vec2::new(-1e30, -3.0)), t[0]);
+        assert_eq!(sample(&clamp, Vec2::new(-1e30, -3.0)), t[0]);
     }
 }

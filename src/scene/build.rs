@@ -286,7 +286,9 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
                 }
                 world.spawn(InfiniteLight {
                     radiance: *radiance,
-                    map: map.and_then(|id| desc.textures.get(id).map(image_texture)),
+                    map: map
+                        .and_then(|id| desc.textures.get(id))
+                        .map(|image| image_texture(image, image.texels.to_linear())),
                     light_to_world: Mat3::from_mat4(*light_to_world),
                 });
             }
@@ -295,7 +297,11 @@ pub fn build_world(desc: SceneDesc, options: &RenderOptions) -> (World, Vec<Stri
 
     if uses_textures {
         world.insert_resource(TextureTable {
-            textures: desc.textures.iter().map(image_texture).collect(),
+            textures: desc
+                .textures
+                .iter()
+                .map(|image| image_texture(image, image.texels.clone()))
+                .collect(),
             graph: desc.texture_graph.clone(),
         });
     }
@@ -620,11 +626,13 @@ fn microfacet(roughness: &Roughness) -> Microfacet {
     Microfacet::new(kind, roughness.alpha_u, roughness.alpha_v)
 }
 
-fn image_texture(image: &ImageTexture) -> texture::ImageTexture {
+/// The described image, reading its texels from `texels` (the environment light reads them
+/// as linear RGB, textures as they were decoded).
+fn image_texture<T>(image: &ImageTexture, texels: T) -> texture::ImageTexture<T> {
     texture::ImageTexture {
         width: image.width,
         height: image.height,
-        texels: image.texels.clone(),
+        texels,
         scale: image.scale,
         delta: image.delta,
         wrap: image.wrap,

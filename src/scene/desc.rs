@@ -10,13 +10,13 @@
 use std::f32::consts::PI;
 use std::fmt;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 
 use crate::bsdf::lafortune::LafortuneFit;
 use crate::camera::{CameraType, pinhole};
 pub use crate::light::spot::SpotFalloff;
+pub use crate::material::texels::Texels;
 pub use crate::material::texture::Wrap;
 use crate::settings::IntegratorKind;
 pub use crate::texture::TextureGraph;
@@ -237,15 +237,16 @@ pub enum FilterKind {
     },
 }
 
-/// A decoded image, linear RGB, rows from the top.
+/// A decoded image, rows from the top.
 #[derive(Clone, Debug)]
 pub struct ImageTexture {
     pub name: String,
     pub path: PathBuf,
     pub width: u32,
     pub height: u32,
-    /// `width * height` linear RGB texels (already multiplied by `gain`, `gamma` undone).
-    pub texels: Arc<Vec<Vec3>>,
+    /// `width * height` texels, linear RGB (already multiplied by `gain`, `gamma` undone) or
+    /// 8-bit codes decoded to those values at lookup.
+    pub texels: Texels,
     /// uv mapping: (u, v) -> (u * scale.x + delta.x, v * scale.y + delta.y), then wrapped.
     pub scale: Vec2,
     pub delta: Vec2,

@@ -1,12 +1,16 @@
-//! Decoding image files (PNG, JPEG, GIF, BMP, EXR) to linear RGB texels.
+//! Decoding image files (PNG, JPEG, GIF, BMP, EXR) to linear RGB texels, or, for textures,
+//! to the texels as the renderer keeps them (8-bit images in 8 bits).
 
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::Vec3;
 use image::{
     DynamicImage, GrayAlphaImage, GrayImage, ImageReader, Luma, LumaA, Rgb, RgbImage, Rgba,
     RgbaImage,
 };
+
+use crate::material::texels::{CodedTexels, Texels};
 
 /// A decoded image: `width * height` linear RGB texels, rows from the top.
 pub struct LinearImage {
@@ -15,27 +19,51 @@ pub struct LinearImage {
     pub texels: Vec<Vec3>,
 }
 
-/// Decodes `path`. Integer-valued images are display-encoded: texel = (value / max)^gamma * gain;
-/// floating-point images (EXR) are already linear: texel = value * gain.
+/// A decoded image as a texture keeps it: `width * height` texels, rows from the top.
+pub struct TextureImage {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Texels,
+}
+
+/// Decodes `path` to linear RGB, the values `decode_texture` gives, each texel stored as f32.
 pub fn decode(path: &Path, gamma: f32, gain: f32) -> Result<LinearImage, String> {
+    let image = decode_texture(path, gamma, gain)?;
+    Ok(LinearImage {
+        width: image.width,
+        height: image.height,
+        texels: Arc::unwrap_or_clone(image.texels.to_linear()),
+    })
+}
+
+/// Decodes `path`. Integer-valued images are display-encoded: texel = (value / max)^gamma * gain;
+/// floating-point images (EXR) are already linear: texel = value * gain. Images of 8 bits a
+/// channel keep their codes, decoded at lookup through a table of those very values.
+pub fn decode_texture(path: &Path, gamma: f32, gain: f32) -> Result<TextureImage, String> {
     let image = ImageReader::open(path)
         .and_then(|reader| reader.with_guessed_format())
         .map_err(|e| e.to_string())?
         .decode()
         .map_err(|e| e.to_string())?;
-    if let Some(texels) = decode_8bit(&image, gamma, gain) {
-        return Ok(LinearImage {
-            width: image.width(),
-            height: image.height(),
-            texels,
-        });
+    Ok(TextureImage {
+        width: image.width(),
+        height: image.height(),
+        texels: texels(&image, gamma, gain),
+    })
+}
+
+/// `image`'s texels: coded if it has 8 bits a channel, linear otherwise.
+fn texels(image: &DynamicImage, gamma: f32, gain: f32) -> Texels {
+    if let Some(values) = code_values(image, gamma, gain) {
+        let codes = CodedTexels::new(image.to_rgb8().into_raw(), values);
+        return Texels::Coded(Arc::new(codes));
     }
     let is_linear = matches!(
         image,
         DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_)
     );
-    let rgb = image.to_rgb32f();
-    let texels = rgb
+    let texels = image
+        .to_rgb32f()
         .pixels()
         .map(|pixel| {
             let encoded = Vec3::from_array(pixel.0);
@@ -47,18 +75,14 @@ pub fn decode(path: &Path, gamma: f32, gain: f32) -> Result<LinearImage, String>
             linear * gain
         })
         .collect();
-    Ok(LinearImage {
-        width: rgb.width(),
-        height: rgb.height(),
-        texels,
-    })
+    Texels::Linear(Arc::new(texels))
 }
 
-/// An 8-bit image's texels through a table of its 256 codes' linear values, the same bits as
-/// `powf` per channel (the table's entries are that very conversion); `None` for other depths.
-/// A 512 x 512 texture took 786,432 `powf` calls, 50 M instructions: more than the BSDFs of a
-/// 4-spp render of the scene that uses it.
-fn decode_8bit(image: &DynamicImage, gamma: f32, gain: f32) -> Option<Vec<Vec3>> {
+/// The linear value of each of an 8-bit image's 256 codes, the same bits as `powf` per
+/// channel and the gain (the table's entries are that very conversion); `None` for other
+/// depths. Decoding through the table also spares `powf`: a 512 x 512 texture took 786,432
+/// `powf` calls, 50 M instructions, more than the BSDFs of a 4-spp render of the scene.
+fn code_values(image: &DynamicImage, gamma: f32, gain: f32) -> Option<[f32; 256]> {
     // Each code as `to_rgb32f` scales it from this very layout (grey converts with other
     // roundings than RGB), raised to `gamma`.
     let codes = match image {
@@ -80,17 +104,11 @@ fn decode_8bit(image: &DynamicImage, gamma: f32, gain: f32) -> Option<Vec<Vec3>>
         }
         _ => return None,
     };
-    let linear: Vec<f32> = codes
-        .to_rgb32f()
-        .pixels()
-        .map(|pixel| pixel.0[0].powf(gamma))
-        .collect();
-    let texels = image
-        .to_rgb8()
-        .pixels()
-        .map(|pixel| Vec3::from_array(pixel.0.map(|code| linear[usize::from(code)])) * gain)
-        .collect();
-    Some(texels)
+    let mut values = [0.0; 256];
+    for (value, pixel) in values.iter_mut().zip(codes.to_rgb32f().pixels()) {
+        *value = pixel.0[0].powf(gamma) * gain;
+    }
+    Some(values)
 }
 
 #[cfg(test)]
@@ -123,7 +141,12 @@ mod tests {
             DynamicImage::ImageRgb8(rgb),
         ] {
             for (gamma, gain) in [(2.2, 1.0), (1.0, 0.5), (2.4, 3.0)] {
-                let table = decode_8bit(&image, gamma, gain).expect("an 8-bit image");
+                let texels = texels(&image, gamma, gain);
+                assert!(
+                    matches!(texels, Texels::Coded(_)),
+                    "an 8-bit image is coded"
+                );
+                let table = texels.to_linear();
                 let bits = |texels: &[Vec3]| -> Vec<[u32; 3]> {
                     texels
                         .iter()
@@ -133,7 +156,14 @@ mod tests {
                 assert_eq!(bits(&table), bits(&by_powf(&image, gamma, gain)));
             }
         }
-        let wide = DynamicImage::ImageRgb16(image::ImageBuffer::new(2, 2));
-        assert!(decode_8bit(&wide, 2.2, 1.0).is_none());
+        let wide = DynamicImage::ImageRgb16(image::ImageBuffer::from_fn(2, 2, |x, y| {
+            Rgb([x as u16 * 40_000, y as u16 * 999, 12_345])
+        }));
+        let texels = texels(&wide, 2.2, 1.5);
+        assert!(
+            matches!(texels, Texels::Linear(_)),
+            "a 16-bit image is not coded"
+        );
+        assert_eq!(*texels.to_linear(), by_powf(&wide, 2.2, 1.5));
     }
 }

@@ -223,7 +223,7 @@ impl Parser {
             path: self.file.clone(),
             width: WIDTH as u32,
             height: HEIGHT as u32,
-            texels: Arc::new(texels),
+            texels: Arc::new(texels).into(),
             scale: glam::Vec2::ONE,
             delta: glam::Vec2::ZERO,
             wrap: Wrap::Repeat,

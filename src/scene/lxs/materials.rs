@@ -1,7 +1,5 @@
 //! `Material`, `MakeNamedMaterial` and `Texture`.
 
-use std::sync::Arc;
-
 use glam::{Vec2, Vec3};
 
 use super::measured::measured_material;
@@ -650,7 +648,7 @@ impl Parser {
         what: &str,
     ) -> Result<usize, SceneError> {
         let path = self.resolve(filename, line, what)?;
-        let decoded = image::decode(&path, gamma, gain).map_err(|e| {
+        let decoded = image::decode_texture(&path, gamma, gain).map_err(|e| {
             self.error(
                 line,
                 format!("{what}: cannot decode {}: {e}", path.display()),
@@ -661,7 +659,7 @@ impl Parser {
             path,
             width: decoded.width,
             height: decoded.height,
-            texels: Arc::new(decoded.texels),
+            texels: decoded.texels,
             scale: Vec2::ONE,
             delta: Vec2::ZERO,
             wrap: Wrap::Repeat,

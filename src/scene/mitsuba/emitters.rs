@@ -94,7 +94,7 @@ pub fn emitter(cx: &mut Converter, object: &Object) -> Result<(), SceneError> {
                 path,
                 width: image.width,
                 height: image.height,
-                texels: Arc::new(image.texels),
+                texels: Arc::new(image.texels).into(),
                 scale: glam::Vec2::ONE,
                 delta: glam::Vec2::ZERO,
                 wrap: Wrap::Repeat,

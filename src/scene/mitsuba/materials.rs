@@ -12,9 +12,10 @@ use glam::{Vec2, Vec3};
 use super::conductors::CONDUCTORS;
 use super::convert::Converter;
 use super::tree::{Object, Value};
+use crate::material::texels::PaletteTexels;
 use crate::scene::desc::{
     ColorParam, ImageTexture, MaterialDesc, MaterialId, MicrofacetDistribution, Roughness,
-    SceneError, TextureId, Wrap,
+    SceneError, Texels, TextureId, Wrap,
 };
 use crate::scene::io::image as images;
 use crate::texture::{Mapping2D, TextureNode};
@@ -414,15 +415,22 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
             let c0 = cx.rgb(object, "color0", Vec3::splat(0.4));
             let c1 = cx.rgb(object, "color1", Vec3::splat(0.2));
             // Mitsuba: color0 where the fractional parts of u and v are both below or both above
-            // one half. Sampled finely so that bilinear filtering only blurs a thin seam.
+            // one half. Sampled finely so that bilinear filtering only blurs a thin seam; each
+            // texel one byte naming its colour.
             const N: u32 = 256;
-            let texels = (0..N * N)
+            let indices = (0..N * N)
                 .map(|i| {
                     let (x, y) = (i % N, i / N);
-                    if (x < N / 2) == (y < N / 2) { c0 } else { c1 }
+                    u8::from((x < N / 2) != (y < N / 2))
                 })
                 .collect();
-            (N, N, texels, "checkerboard".to_string())
+            let texels = PaletteTexels::new(indices, &[c0, c1]);
+            (
+                N,
+                N,
+                Texels::Palette(Arc::new(texels)),
+                "checkerboard".to_string(),
+            )
         }
         "bitmap" => {
             let name = cx.string(object, "filename")?;
@@ -443,7 +451,7 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
             }
             // Integer images are sRGB-encoded unless raw; the sRGB curve read as gamma 2.2.
             let gamma = if raw { 1.0 } else { 2.2 };
-            match images::decode(&path, gamma, 1.0) {
+            match images::decode_texture(&path, gamma, 1.0) {
                 Ok(img) => (img.width, img.height, img.texels, name),
                 Err(e) => {
                     cx.warn(
@@ -469,7 +477,7 @@ pub fn texture(cx: &mut Converter, object: &Object) -> Option<TextureId> {
         path: name.into(),
         width,
         height,
-        texels: Arc::new(texels),
+        texels,
         scale,
         delta,
         wrap,
