@@ -33,6 +33,8 @@ pub(crate) trait Lanes:
     /// `i` of axis `a` is `values[i][a]`.
     fn load_points(values: &[Vec3]) -> [Self; 3];
     fn sqrt(self) -> Self;
+    /// The magnitude: the sign bit cleared.
+    fn abs(self) -> Self;
     fn lt(self, other: Self) -> Self::Mask;
     fn le(self, other: Self) -> Self::Mask;
     fn gt(self, other: Self) -> Self::Mask;
@@ -157,6 +159,10 @@ impl Lanes for L8 {
         L8(unsafe { _mm256_sqrt_ps(self.0) })
     }
     #[inline(always)]
+    fn abs(self) -> Self {
+        L8(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
+    }
+    #[inline(always)]
     fn lt(self, other: Self) -> __m256 {
         unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self.0, other.0) }
     }
@@ -269,6 +275,10 @@ impl Lanes for L16 {
     #[inline(always)]
     fn sqrt(self) -> Self {
         L16(unsafe { _mm512_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        L16(unsafe { _mm512_abs_ps(self.0) })
     }
     #[inline(always)]
     fn lt(self, other: Self) -> __mmask16 {

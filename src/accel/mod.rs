@@ -15,6 +15,7 @@
 mod aabb;
 mod blas;
 mod bvh;
+mod coplanar;
 mod disk;
 mod flat;
 mod instances;
