@@ -388,6 +388,23 @@ impl Bsdf {
         checked_sample(sample)
     }
 
+    /// The BSDF as a microfacet conductor on isotropic GGX, if it is one (LuxRender's metals,
+    /// Mitsuba's `roughconductor` and metallic `principled`): the shading stage finishes those
+    /// eight at a time.
+    pub fn isotropic_ggx_conductor(&self) -> Option<RoughConductor> {
+        let conductor = match *self {
+            Bsdf::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y),
+            Bsdf::RoughConductor(c) => c,
+            _ => return None,
+        };
+        let ggx = matches!(conductor.distribution, Microfacet::TrowbridgeReitz(_));
+        (ggx && !conductor.distribution.is_anisotropic()).then_some(conductor)
+    }
+
     /// True when every lobe is a delta (mirror, smooth glass): no light
     /// sampling.
     pub fn is_delta(&self) -> bool {

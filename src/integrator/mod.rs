@@ -15,6 +15,7 @@
 
 pub mod accumulate;
 pub mod batch;
+mod conductor_lanes;
 mod diffuse_lanes;
 mod lanes;
 pub mod shade_path;
