@@ -240,7 +240,15 @@ impl<'a> DiffuseQueue<'a> {
     /// Russian roulette after `rr_depth` bounces) and empties the queue. Lanes past the
     /// queue's length compute on stale inputs and are not read.
     pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
-        self.finish_with(block, rr_depth, finish_lanes);
+        // A closure forced inline, as `run_kernels`' are (not the function through `FnOnce`'s
+        // shim), so that both compilations of `vex::run` hold the kernel.
+        #[allow(clippy::redundant_closure)]
+        self.finish_with(
+            block,
+            rr_depth,
+            #[inline(always)]
+            |inputs, out| finish_lanes(inputs, out),
+        );
     }
 
     /// [`DiffuseQueue::finish`] with the BSDF's lanes `bsdf_lanes` in place of the
