@@ -163,6 +163,15 @@ impl BsdfSample {
     }
 }
 
+/// Smooth glass as its sampling uses it (the relative index clamped), for the shading stage's
+/// lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct SmoothGlass {
+    pub reflectance: Vec3,
+    pub transmittance: Vec3,
+    pub eta: f32,
+}
+
 /// The largest f32 below 1, the upper bound of a canonical sample.
 pub(crate) const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
@@ -386,6 +395,40 @@ impl Bsdf {
             Bsdf::Lafortune(l) => l.sample(wo, u, canonical(uc)),
         };
         checked_sample(sample)
+    }
+
+    /// The BSDF as smooth glass, if it is (`Bsdf::Dielectric`): the shading stage finishes
+    /// those eight at a time.
+    pub fn smooth_glass(&self) -> Option<SmoothGlass> {
+        match *self {
+            Bsdf::Dielectric {
+                reflectance,
+                transmittance,
+                eta,
+            } => Some(SmoothGlass {
+                reflectance,
+                transmittance,
+                eta: dielectric::clamp_eta(eta),
+            }),
+            _ => None,
+        }
+    }
+
+    /// The BSDF as a microfacet conductor on isotropic GGX, if it is one (LuxRender's metals,
+    /// Mitsuba's `roughconductor` and metallic `principled`): the shading stage finishes those
+    /// eight at a time.
+    pub fn isotropic_ggx_conductor(&self) -> Option<RoughConductor> {
+        let conductor = match *self {
+            Bsdf::Conductor {
+                f0,
+                alpha_x,
+                alpha_y,
+            } => conductor(ConductorFresnel::Schlick(f0), alpha_x, alpha_y),
+            Bsdf::RoughConductor(c) => c,
+            _ => return None,
+        };
+        let ggx = matches!(conductor.distribution, Microfacet::TrowbridgeReitz(_));
+        (ggx && !conductor.distribution.is_anisotropic()).then_some(conductor)
     }
 
     /// True when every lobe is a delta (mirror, smooth glass): no light

@@ -12,18 +12,23 @@
 //! ([`crate::accel::vex::run`]). Every lane performs the scalar path's operations in the same
 //! order (IEEE sums, products, quotients and square roots, no fused multiply-add), so the
 //! image is the same to the bit as one vertex at a time, at any width (tested).
+//!
+//! The queue, the lamps' lanes and next-event estimation's lanes serve the rough conductor's
+//! vertices too ([`super::conductor_lanes`]), its kernel in the Lambertian's place
+//! ([`DiffuseQueue::finish_with`]).
 
-use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
+use std::f32::consts::FRAC_1_PI;
 
 use glam::{Vec2, Vec3};
 
-use super::lanes::{F8, LANES, M8, V8};
+use super::lanes::{
+    F8, LANES, LaneFrame, M8, V8, canonical, concentric_disk, offset_ray_origin, power_heuristic,
+    unit_direction,
+};
 use super::shade_path::russian_roulette;
 use super::shading::{PathBlock, ShadowRay};
 use crate::accel::vex;
-use crate::bsdf::ONE_MINUS_EPSILON;
 use crate::light::area::EmitterParallelogram;
-use crate::math::sin_cos_eighth_turn;
 
 /// A light sample for a vertex: the direction and distance to the light point, its radiance
 /// and the density of choosing it (light selection times the light's own density).
@@ -71,29 +76,6 @@ pub struct DiffuseVertex<'a> {
     pub u: Vec2,
 }
 
-impl V8 {
-    #[inline(always)]
-    fn set(&mut self, lane: usize, v: Vec3) {
-        self.x.0[lane] = v.x;
-        self.y.0[lane] = v.y;
-        self.z.0[lane] = v.z;
-    }
-
-    #[inline(always)]
-    fn splat(v: Vec3) -> Self {
-        V8 {
-            x: F8::splat(v.x),
-            y: F8::splat(v.y),
-            z: F8::splat(v.z),
-        }
-    }
-
-    #[inline(always)]
-    fn get(&self, lane: usize) -> Vec3 {
-        Vec3::new(self.x.0[lane], self.y.0[lane], self.z.0[lane])
-    }
-}
-
 /// The light fields of a lane without a light sample.
 const NO_LIGHT: LightPoint = LightPoint {
     wi: Vec3::Z,
@@ -105,17 +87,18 @@ const NO_LIGHT: LightPoint = LightPoint {
 
 /// The queued vertices, one lane each (structure of arrays).
 #[derive(Clone, Copy, Default)]
-struct Inputs {
-    position: V8,
-    geometric_normal: V8,
-    shading_normal: V8,
-    wo: V8,
-    reflectance: V8,
-    throughput: V8,
+pub(super) struct Inputs {
+    pub(super) position: V8,
+    pub(super) geometric_normal: V8,
+    pub(super) shading_normal: V8,
+    pub(super) wo: V8,
+    /// The Lambertian's reflectance, or the factor on a conductor's lobe.
+    pub(super) reflectance: V8,
+    pub(super) throughput: V8,
     /// The light sample's fields; `has_light` false where there is none (the other fields
     /// then hold harmless values). A lamp lane has none yet: its `light_radiance` is the
     /// lamp's and its `light_pdf` the probability of choosing it.
-    has_light: [bool; LANES],
+    pub(super) has_light: [bool; LANES],
     light_wi: V8,
     light_distance: F8,
     light_radiance: V8,
@@ -130,29 +113,30 @@ struct Inputs {
     lamp_normal: V8,
     lamp_area: F8,
     lamp_u: [F8; 2],
-    u: [F8; 2],
+    pub(super) u: [F8; 2],
 }
 
 /// The kernel's results, one lane each.
 #[derive(Clone, Copy, Default)]
-struct Outputs {
+pub(super) struct Outputs {
     /// A shadow ray, where the vertex's frame and `wo` were sound (else the path ends with
     /// nothing: no shadow ray, no next ray).
-    has_shadow: M8,
-    shadow_origin: V8,
-    shadow_direction: V8,
-    shadow_t_max: F8,
-    contribution: V8,
+    pub(super) has_shadow: M8,
+    pub(super) shadow_origin: V8,
+    pub(super) shadow_direction: V8,
+    pub(super) shadow_t_max: F8,
+    pub(super) contribution: V8,
     /// The vertex was sound and the BSDF sample made a next ray (else the path ends, keeping
     /// its shadow ray).
-    scattered: M8,
-    throughput: V8,
-    origin: V8,
-    direction: V8,
-    pdf: F8,
+    pub(super) scattered: M8,
+    pub(super) throughput: V8,
+    pub(super) origin: V8,
+    pub(super) direction: V8,
+    pub(super) pdf: F8,
 }
 
-/// A block's Lambertian vertices waiting to be finished, with their slots in the block.
+/// A block's Lambertian vertices waiting to be finished, with their slots in the block (and,
+/// inside a [`super::conductor_lanes::ConductorQueue`], its conductor vertices).
 #[derive(Default)]
 pub struct DiffuseQueue<'a> {
     len: usize,
@@ -192,6 +176,11 @@ impl Inputs {
 impl<'a> DiffuseQueue<'a> {
     pub fn is_full(&self) -> bool {
         self.len == LANES
+    }
+
+    /// The number of queued vertices (the next one's lane).
+    pub(super) fn len(&self) -> usize {
+        self.len
     }
 
     /// Queues the vertex of the block's path `slot`.
@@ -251,9 +240,30 @@ impl<'a> DiffuseQueue<'a> {
     /// Russian roulette after `rr_depth` bounces) and empties the queue. Lanes past the
     /// queue's length compute on stale inputs and are not read.
     pub fn finish(&mut self, block: &mut PathBlock, rr_depth: u32) {
+        // A closure forced inline, as `run_kernels`' are (not the function through `FnOnce`'s
+        // shim), so that both compilations of `vex::run` hold the kernel.
+        #[allow(clippy::redundant_closure)]
+        self.finish_with(
+            block,
+            rr_depth,
+            #[inline(always)]
+            |inputs, out| finish_lanes(inputs, out),
+        );
+    }
+
+    /// [`DiffuseQueue::finish`] with the BSDF's lanes `bsdf_lanes` in place of the
+    /// Lambertian's: they write the lanes' shadow rays and next rays from the inputs (lamps
+    /// sampled already), as [`finish_lanes`] does. Must be `#[inline(always)]`, for
+    /// [`vex::run`].
+    pub(super) fn finish_with(
+        &mut self,
+        block: &mut PathBlock,
+        rr_depth: u32,
+        bsdf_lanes: impl FnOnce(&Inputs, &mut Outputs),
+    ) {
         self.fill_lamps();
         let out = &mut self.outputs;
-        run_kernels(&mut self.inputs, out);
+        run_kernels(&mut self.inputs, out, bsdf_lanes);
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             if out.has_shadow.lane(lane) {
                 block.shadows.emit_first(
@@ -299,10 +309,15 @@ impl<'a> DiffuseQueue<'a> {
     }
 }
 
-/// [`sample_lamps`] where a lane has a lamp, then [`finish_lanes`], each compiled for AVX2
-/// where the CPU has it: as one kernel they were too large for the compiler to inline into
-/// `vex::run`'s AVX2 version, and ran as baseline code in twice the instructions.
-fn run_kernels(inputs: &mut Inputs, out: &mut Outputs) {
+/// [`sample_lamps`] where a lane has a lamp, then the BSDF's lanes (such as [`finish_lanes`]),
+/// each compiled for AVX2 where the CPU has it: as one kernel they were too large for the
+/// compiler to inline into `vex::run`'s AVX2 version, and ran as baseline code in twice the
+/// instructions.
+fn run_kernels(
+    inputs: &mut Inputs,
+    out: &mut Outputs,
+    bsdf_lanes: impl FnOnce(&Inputs, &mut Outputs),
+) {
     // The closures are forced inline, so that both compilations of `vex::run` hold the lanes'
     // code: left to LLVM, a closure was once compiled out of line for the baseline only.
     if inputs.lamp.contains(&true) {
@@ -313,7 +328,7 @@ fn run_kernels(inputs: &mut Inputs, out: &mut Outputs) {
     }
     vex::run(
         #[inline(always)]
-        || finish_lanes(inputs, out),
+        || bsdf_lanes(inputs, out),
     );
 }
 
@@ -337,10 +352,17 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     let above = |wi_z: F8| wo_unit.z.gt(zero) & wi_z.gt(zero);
     let f_lambert = inputs.reflectance.scale(F8::splat(FRAC_1_PI));
 
-    // Next-event estimation, unless no lane has a light sample (a scene lit by a constant sky
+    // Next-event estimation (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
+    // `density_or_zero`), unless no lane has a light sample (a scene lit by a constant sky
     // alone); `has_shadow` is then false.
     if inputs.has_light.contains(&true) {
-        light_lanes(inputs, out, &frame, f_lambert, above);
+        let eval = |wi_unit: V8, wi_sound: M8| {
+            let lit = wi_sound & above(wi_unit.z);
+            let f = (lit & f_lambert.is_finite()).select_v(f_lambert, V8::default());
+            let pdf = wi_unit.z.max(zero) * FRAC_1_PI;
+            (f, (lit & pdf.is_finite() & pdf.gt(zero)).select(pdf, zero))
+        };
+        light_lanes(inputs, out, &frame, eval);
         out.has_shadow = out.has_shadow & sound;
     } else {
         out.has_shadow = M8::default();
@@ -348,17 +370,7 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
 
     // The next ray (`Bsdf::sample_unit_wo`: `canonical`, `sample_cosine_lobe`,
     // `cosine_hemisphere`, `concentric_disk`).
-    let canonical = |x: F8| x.ge(zero).select(x.min(F8::splat(ONE_MINUS_EPSILON)), zero);
-    let (ox, oy) = (
-        2.0 * canonical(inputs.u[0]) - 1.0,
-        2.0 * canonical(inputs.u[1]) - 1.0,
-    );
-    let centre = ox.eq(zero) & oy.eq(zero);
-    let wide = ox.abs().gt(oy.abs());
-    let (sin, cos) = sin_cos_eighth_turn(FRAC_PI_4 * (wide.select(oy, ox) / wide.select(ox, oy)));
-    let radius = wide.select(ox, oy);
-    let dx = centre.select(zero, radius * wide.select(cos, sin));
-    let dy = centre.select(zero, radius * wide.select(sin, cos));
+    let (dx, dy) = concentric_disk(inputs.u.map(canonical));
     let s = V8 {
         x: dx,
         y: dy,
@@ -421,66 +433,16 @@ fn sample_lamps(inputs: &mut Inputs) {
     inputs.light_pdf = lamp.select(inputs.light_pdf * pdf, inputs.light_pdf);
 }
 
-/// `Frame` on lanes: the same operations in the same order.
-struct LaneFrame {
-    x: V8,
-    y: V8,
-    z: V8,
-}
-
-impl LaneFrame {
-    /// `Frame::from_z` (Duff et al. 2017).
-    #[inline(always)]
-    fn from_z(n: V8) -> Self {
-        let sign = F8::splat(1.0).copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
-        Self {
-            x: V8 {
-                x: 1.0 + sign * n.x * n.x * a,
-                y: sign * b,
-                z: -sign * n.x,
-            },
-            y: V8 {
-                x: b,
-                y: sign + n.y * n.y * a,
-                z: -n.y,
-            },
-            z: n,
-        }
-    }
-
-    /// `Frame::to_local`.
-    #[inline(always)]
-    fn to_local(&self, v: V8) -> V8 {
-        V8 {
-            x: v.dot(self.x),
-            y: v.dot(self.y),
-            z: v.dot(self.z),
-        }
-    }
-
-    /// `Frame::to_world`: x v.x + y v.y + z v.z.
-    #[inline(always)]
-    fn to_world(&self, v: V8) -> V8 {
-        let (x, y, z) = (self.x, self.y, self.z);
-        V8 {
-            x: x.x * v.x + y.x * v.y + z.x * v.z,
-            y: x.y * v.x + y.y * v.y + z.y * v.z,
-            z: x.z * v.x + y.z * v.y + z.z * v.z,
-        }
-    }
-}
-
 /// Next-event estimation's lanes (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
 /// `density_or_zero`, the power heuristic, `ShadowRay::towards`).
+/// `eval` gives the BSDF's value and density (`Bsdf::eval_and_pdf_unit_wo`) at the unit
+/// `wi_local` where `wi_sound` holds, zeros elsewhere.
 #[inline(always)]
-fn light_lanes(
+pub(super) fn light_lanes(
     inputs: &Inputs,
     out: &mut Outputs,
     frame: &LaneFrame,
-    f_lambert: V8,
-    above: impl Fn(F8) -> M8,
+    eval: impl FnOnce(V8, M8) -> (V8, F8),
 ) {
     let (ng, p) = (inputs.geometric_normal, inputs.position);
     let zero = F8::splat(0.0);
@@ -488,10 +450,7 @@ fn light_lanes(
     let wi_local = frame.to_local(wi);
     let leaks = (wi.dot(ng) * wi_local.z).le(zero);
     let (wi_unit, wi_sound) = unit_direction(wi_local);
-    let lit = wi_sound & above(wi_unit.z);
-    let f = (lit & f_lambert.is_finite()).select_v(f_lambert, V8::default());
-    let pdf = wi_unit.z.max(zero) * FRAC_1_PI;
-    let bsdf_pdf = (lit & pdf.is_finite() & pdf.gt(zero)).select(pdf, zero);
+    let (f, bsdf_pdf) = eval(wi_unit, wi_sound);
     let f = f.scale(wi_local.z.abs());
     let light_pdf = inputs.light_pdf;
     let weight =
@@ -514,49 +473,8 @@ fn light_lanes(
     out.shadow_t_max = inputs.light_distance * (1.0 - 1e-3);
 }
 
-/// glam's `try_normalize` (`unit_direction`) as a value and a mask.
-#[inline(always)]
-fn unit_direction(v: V8) -> (V8, M8) {
-    let rcp = 1.0 / v.dot(v).sqrt();
-    (v.scale(rcp), rcp.is_finite() & rcp.gt(F8::splat(0.0)))
-}
-
-/// `math::offset_ray_origin` per lane.
-#[inline(always)]
-fn offset_ray_origin(p: V8, geometric_normal: V8, w: V8) -> V8 {
-    // glam's `max_element`: `if a > b { a } else { b }`, z and y first.
-    let max = |a: F8, b: F8| a.gt(b).select(a, b);
-    let largest = max(p.x.abs(), max(p.y.abs(), p.z.abs()));
-    let scale = 1e-4 * (1.0 + largest);
-    let offset = geometric_normal.scale(scale);
-    let below = w.dot(geometric_normal).lt(F8::splat(0.0));
-    below.select_v(
-        V8 {
-            x: p.x - offset.x,
-            y: p.y - offset.y,
-            z: p.z - offset.z,
-        },
-        V8 {
-            x: p.x + offset.x,
-            y: p.y + offset.y,
-            z: p.z + offset.z,
-        },
-    )
-}
-
-/// `warp::power_heuristic(1, f_pdf, 1, g_pdf)` per lane.
-#[inline(always)]
-fn power_heuristic(f_pdf: F8, g_pdf: F8) -> F8 {
-    let (f2, g2) = (f_pdf * f_pdf, g_pdf * g_pdf);
-    let sum = f2 + g2;
-    let zero = F8::splat(0.0);
-    f_pdf
-        .is_infinite()
-        .select(F8::splat(1.0), sum.gt(zero).select(f2 / sum, zero))
-}
-
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::{Vec2, Vec3};
 
     use super::*;
@@ -667,23 +585,62 @@ mod tests {
     /// against the lanes, bit for bit, in both compilations of the kernel.
     #[test]
     fn lanes_match_the_scalar_vertex_bit_for_bit() {
+        let [shadows, lamp_shadows, scattered, unsound] = assert_lanes_match_scalar(
+            |_, vertex| Bsdf::Lambertian {
+                reflectance: vertex.reflectance,
+            },
+            |vertices, _| {
+                let mut queue = DiffuseQueue::default();
+                for (lane, vertex) in vertices.iter().enumerate() {
+                    queue.push(lane, *vertex);
+                }
+                queue.kernel_outputs(finish_lanes)
+            },
+        );
+        // Both outcomes common, so the comparisons were exercised.
+        assert!(
+            shadows > 1000 && lamp_shadows > 300 && scattered > 1000 && unsound > 100,
+            "{shadows} {lamp_shadows} {scattered} {unsound}"
+        );
+    }
+
+    impl DiffuseQueue<'_> {
+        /// The queued group's outputs from `bsdf_lanes` (after the lamps' lanes) compiled for
+        /// the baseline, and as [`DiffuseQueue::finish_with`] runs them.
+        pub(in crate::integrator) fn kernel_outputs(
+            &mut self,
+            bsdf_lanes: impl Fn(&Inputs, &mut Outputs),
+        ) -> [Outputs; 2] {
+            let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
+            self.fill_lamps();
+            let mut inputs = self.inputs;
+            sample_lamps(&mut inputs);
+            bsdf_lanes(&inputs, &mut baseline);
+            run_kernels(&mut self.inputs, &mut dispatched, &bsdf_lanes);
+            [baseline, dispatched]
+        }
+    }
+
+    /// Groups of random vertices (`random_vertex`), each given its BSDF by `bsdf_of` (which
+    /// may set the vertex's reflectance to match), finished by `lanes` (the baseline and the
+    /// dispatched outputs, [`DiffuseQueue::kernel_outputs`]), against the scalar path's
+    /// operations on each vertex (as `shade_scattering` does them), bit for bit. Returns the
+    /// counts of shadow rays, of those from lamps, of next rays and of unsound vertices.
+    pub(in crate::integrator) fn assert_lanes_match_scalar(
+        mut bsdf_of: impl FnMut(&mut PathRng, &mut DiffuseVertex) -> Bsdf,
+        mut lanes: impl FnMut(&[DiffuseVertex], &[Bsdf]) -> [Outputs; 2],
+    ) -> [usize; 4] {
         let mut rng = PathRng::new(8, 0, 0);
         let lamps = random_lamps(&mut rng);
         let (mut shadows, mut lamp_shadows, mut scattered, mut unsound) = (0, 0, 0, 0);
         for group in 0..1000 {
-            let vertices: Vec<DiffuseVertex> = (0..LANES)
+            let mut vertices: Vec<DiffuseVertex> = (0..LANES)
                 .map(|lane| random_vertex(&mut rng, group * LANES + lane, &lamps))
                 .collect();
-            let mut queue = DiffuseQueue::default();
-            for (lane, vertex) in vertices.iter().enumerate() {
-                queue.push(lane, *vertex);
-            }
-            let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
-            queue.fill_lamps();
-            let mut inputs = queue.inputs;
-            sample_lamps(&mut inputs);
-            finish_lanes(&inputs, &mut baseline);
-            run_kernels(&mut queue.inputs, &mut dispatched);
+            let bsdfs: Vec<Bsdf> = (vertices.iter_mut())
+                .map(|vertex| bsdf_of(&mut rng, vertex))
+                .collect();
+            let [baseline, dispatched] = lanes(&vertices, &bsdfs);
             for (lane, v) in vertices.iter().enumerate() {
                 for out in [&baseline, &dispatched] {
                     let frame = Frame::from_z(v.shading_normal);
@@ -694,9 +651,7 @@ mod tests {
                         unsound += 1;
                         continue;
                     };
-                    let bsdf = Bsdf::Lambertian {
-                        reflectance: v.reflectance,
-                    };
+                    let bsdf = bsdfs[lane];
                     let shadow = scalar_light(v).and_then(|light| {
                         let wi_local = frame.to_local(light.wi);
                         if light.wi.dot(v.geometric_normal) * wi_local.z <= 0.0 {
@@ -758,10 +713,6 @@ mod tests {
                 }
             }
         }
-        // Both outcomes common, so the comparisons above were exercised.
-        assert!(
-            shadows > 1000 && lamp_shadows > 300 && scattered > 1000 && unsound > 100,
-            "{shadows} {lamp_shadows} {scattered} {unsound}"
-        );
+        [shadows, lamp_shadows, scattered, unsound]
     }
 }

@@ -6,8 +6,17 @@
 //! `accel::vex::run` picks on CPUs with AVX2. Either way each lane gets exactly the operation
 //! scalar code would do (no fused multiply-add, no reassociation), so a kernel written with
 //! these types in the scalar code's order gives its bits.
+//!
+//! Below the types, the lane forms of the scalar helpers that the kernels share (the shading
+//! frame, normalisation, the ray origin's offset, the power heuristic, the disk warp).
 
+use std::f32::consts::FRAC_PI_4;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+use glam::Vec3;
+
+use crate::bsdf::ONE_MINUS_EPSILON;
+use crate::math::sin_cos_eighth_turn;
 
 /// Lanes per value.
 pub const LANES: usize = 8;
@@ -246,6 +255,30 @@ impl Sub for V8 {
 }
 
 impl V8 {
+    /// Sets lane `lane` to `v`.
+    #[inline(always)]
+    pub fn set(&mut self, lane: usize, v: Vec3) {
+        self.x.0[lane] = v.x;
+        self.y.0[lane] = v.y;
+        self.z.0[lane] = v.z;
+    }
+
+    /// `v` in every lane.
+    #[inline(always)]
+    pub fn splat(v: Vec3) -> Self {
+        V8 {
+            x: F8::splat(v.x),
+            y: F8::splat(v.y),
+            z: F8::splat(v.z),
+        }
+    }
+
+    /// Lane `lane`'s vector.
+    #[inline(always)]
+    pub fn get(&self, lane: usize) -> Vec3 {
+        Vec3::new(self.x.0[lane], self.y.0[lane], self.z.0[lane])
+    }
+
     /// glam's `Vec3::dot`: (x x' + y y') + z z'.
     #[inline(always)]
     pub fn dot(self, other: Self) -> F8 {
@@ -284,4 +317,118 @@ impl V8 {
         let zero = F8::splat(0.0);
         self.x.eq(zero) & self.y.eq(zero) & self.z.eq(zero)
     }
+}
+
+/// `Frame` on lanes: the same operations in the same order.
+pub struct LaneFrame {
+    x: V8,
+    y: V8,
+    z: V8,
+}
+
+impl LaneFrame {
+    /// `Frame::from_z` (Duff et al. 2017).
+    #[inline(always)]
+    pub fn from_z(n: V8) -> Self {
+        let sign = F8::splat(1.0).copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Self {
+            x: V8 {
+                x: 1.0 + sign * n.x * n.x * a,
+                y: sign * b,
+                z: -sign * n.x,
+            },
+            y: V8 {
+                x: b,
+                y: sign + n.y * n.y * a,
+                z: -n.y,
+            },
+            z: n,
+        }
+    }
+
+    /// `Frame::to_local`.
+    #[inline(always)]
+    pub fn to_local(&self, v: V8) -> V8 {
+        V8 {
+            x: v.dot(self.x),
+            y: v.dot(self.y),
+            z: v.dot(self.z),
+        }
+    }
+
+    /// `Frame::to_world`: x v.x + y v.y + z v.z.
+    #[inline(always)]
+    pub fn to_world(&self, v: V8) -> V8 {
+        let (x, y, z) = (self.x, self.y, self.z);
+        V8 {
+            x: x.x * v.x + y.x * v.y + z.x * v.z,
+            y: x.y * v.x + y.y * v.y + z.y * v.z,
+            z: x.z * v.x + y.z * v.y + z.z * v.z,
+        }
+    }
+}
+
+/// glam's `try_normalize` (`unit_direction`) as a value and a mask.
+#[inline(always)]
+pub fn unit_direction(v: V8) -> (V8, M8) {
+    let rcp = 1.0 / v.dot(v).sqrt();
+    (v.scale(rcp), rcp.is_finite() & rcp.gt(F8::splat(0.0)))
+}
+
+/// `math::offset_ray_origin` per lane.
+#[inline(always)]
+pub fn offset_ray_origin(p: V8, geometric_normal: V8, w: V8) -> V8 {
+    // glam's `max_element`: `if a > b { a } else { b }`, z and y first.
+    let max = |a: F8, b: F8| a.gt(b).select(a, b);
+    let largest = max(p.x.abs(), max(p.y.abs(), p.z.abs()));
+    let scale = 1e-4 * (1.0 + largest);
+    let offset = geometric_normal.scale(scale);
+    let below = w.dot(geometric_normal).lt(F8::splat(0.0));
+    below.select_v(
+        V8 {
+            x: p.x - offset.x,
+            y: p.y - offset.y,
+            z: p.z - offset.z,
+        },
+        V8 {
+            x: p.x + offset.x,
+            y: p.y + offset.y,
+            z: p.z + offset.z,
+        },
+    )
+}
+
+/// `warp::power_heuristic(1, f_pdf, 1, g_pdf)` per lane.
+#[inline(always)]
+pub fn power_heuristic(f_pdf: F8, g_pdf: F8) -> F8 {
+    let (f2, g2) = (f_pdf * f_pdf, g_pdf * g_pdf);
+    let sum = f2 + g2;
+    let zero = F8::splat(0.0);
+    f_pdf
+        .is_infinite()
+        .select(F8::splat(1.0), sum.gt(zero).select(f2 / sum, zero))
+}
+
+/// `bsdf::canonical` per lane: a sample coordinate clamped to [0, 1), NaN to 0.
+#[inline(always)]
+pub fn canonical(x: F8) -> F8 {
+    let zero = F8::splat(0.0);
+    x.ge(zero).select(x.min(F8::splat(ONE_MINUS_EPSILON)), zero)
+}
+
+/// `warp::concentric_disk` per lane, for a canonical `u`: the disk point's x and y.
+#[inline(always)]
+pub fn concentric_disk(u: [F8; 2]) -> (F8, F8) {
+    let zero = F8::splat(0.0);
+    let (ox, oy) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
+    let centre = ox.eq(zero) & oy.eq(zero);
+    let wide = ox.abs().gt(oy.abs());
+    let (sin, cos) = sin_cos_eighth_turn(FRAC_PI_4 * (wide.select(oy, ox) / wide.select(ox, oy)));
+    let radius = wide.select(ox, oy);
+    (
+        centre.select(zero, radius * wide.select(cos, sin)),
+        centre.select(zero, radius * wide.select(sin, cos)),
+    )
 }

@@ -15,7 +15,9 @@
 
 pub mod accumulate;
 pub mod batch;
+mod conductor_lanes;
 mod diffuse_lanes;
+mod glass_lanes;
 mod lanes;
 pub mod shade_path;
 pub mod shade_raycast;
