@@ -432,7 +432,9 @@ impl Film {
                         let mut rejected = 0;
                         for run in runs() {
                             for sample in &run[band_samples(band, run)] {
-                                rejected += u64::from(!rows.add(film_size, splat, sample));
+                                if rows.reached_by(film_size.1, splat, sample) {
+                                    rejected += u64::from(!rows.add(film_size, splat, sample));
+                                }
                             }
                         }
                         rejected
@@ -471,9 +473,11 @@ impl Film {
     }
 }
 
-/// Bands of rows per thread in [`Film::add_sample_runs`]: a few, so that a thread whose band gets
-/// fewer samples takes another.
-const BANDS_PER_THREAD: usize = 4;
+/// Bands of rows per thread in [`Film::add_sample_runs`]: two, so that a thread held up elsewhere
+/// leaves a band to the others. A chunk's samples are one per pixel, so its bands' work is even;
+/// each boundary between bands costs the samples within the filter's radius of it, whose
+/// weights both bands compute.
+const BANDS_PER_THREAD: usize = 2;
 /// Samples below which a band is not worth a task.
 const MIN_SAMPLES_PER_BAND: usize = 1024;
 
@@ -516,6 +520,21 @@ impl<'a> FilmRows<'a> {
             counts,
             max_component,
         }
+    }
+
+    /// Whether `sample` may add to these rows: its own pixel is here, or its footprint's rows
+    /// (for a filter wider than a pixel) reach here. A band's neighbouring samples mostly do not
+    /// (those within the band's reach but beyond the filter's radius), and are skipped on the
+    /// footprint's span alone, before its weights; [`FilmRows::add`] would add nothing for them.
+    #[inline(always)]
+    fn reached_by(&self, height: u32, splat: Option<&SplatFilter>, sample: &FilmSample) -> bool {
+        if self.pixels.contains(&(sample.pixel as usize)) {
+            return true;
+        }
+        splat.is_some_and(|filter| {
+            let (first, count) = footprint_span(sample.position.y, filter.radius.y, height);
+            first < self.rows.end && first + count > self.rows.start
+        })
     }
 
     /// Adds `sample`'s share of these rows: its weighted radiance in the pixels of these rows
