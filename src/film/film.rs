@@ -318,19 +318,37 @@ impl Film {
         }]);
     }
 
-    /// Adds `samples` as [`Film::add_sample`] would one after the other. Samples in pixel order
-    /// (as the renderer retires them: a chunk's paths are in pixel order and compaction keeps
-    /// it) are added in parallel over bands of rows: each band takes every sample's share of its
-    /// rows, in the order of `samples`, so every pixel sums its contributions in the same order
-    /// as the serial loop and the result is the same to the bit whatever the number of bands or
-    /// threads. Samples in any other order are added one after the other.
+    /// Adds `samples` as [`Film::add_sample`] would one after the other; in parallel when they
+    /// are in pixel order (see [`Film::add_sample_runs`]).
     pub fn add_samples(&mut self, samples: &[FilmSample]) {
+        self.add_sample_runs(samples, &[samples.len()]);
+    }
+
+    /// Adds `samples` as [`Film::add_sample`] would one after the other; `run_ends` cuts them
+    /// into runs (where each ends, increasing, the last at `samples.len()`). When every run is in
+    /// pixel order (as the renderer retires a chunk: one run per bounce, a bounce's paths in
+    /// pixel order, which compaction keeps), they are added in parallel over bands of rows: each
+    /// band takes every sample's share of its rows, run after run and in each run's order, so
+    /// every pixel sums its contributions in the same order as the serial loop and the result is
+    /// the same to the bit whatever the number of bands or threads. Otherwise they are added one
+    /// after the other.
+    pub fn add_sample_runs(&mut self, samples: &[FilmSample], run_ends: &[usize]) {
+        assert!(
+            run_ends.is_sorted() && run_ends.last().copied().unwrap_or(0) == samples.len(),
+            "the runs cut the samples"
+        );
         let width = self.width as usize;
         let n = self.counts.len();
         let splat = self.splat.as_ref();
         let film_size = (self.width, self.height);
         let max_component = self.max_component;
-        let in_pixel_order = || samples.is_sorted_by_key(|sample| sample.pixel);
+        let runs = || {
+            let starts = std::iter::once(0).chain(run_ends.iter().copied());
+            starts
+                .zip(run_ends)
+                .map(|(start, &end)| &samples[start..end])
+        };
+        let in_pixel_order = || runs().all(|run| run.is_sorted_by_key(|sample| sample.pixel));
         if rayon::current_num_threads() == 1
             || samples.len() < 2 * MIN_SAMPLES_PER_BAND
             || !in_pixel_order()
@@ -357,34 +375,43 @@ impl Film {
             self.rejected += rejected as u64;
             return;
         }
-        // In pixel order, the samples outside the film come last, and a sample's own row (its
-        // pixel / width) never decreases: the samples that may touch a band of rows are one
-        // run, found by binary search. A sample's position lies in its pixel, row h, so y is in
-        // [h, h + 1] and the rows j whose centres are within ry of it satisfy
-        // |j + 0.5 - y| <= ry: h - floor(ry + 0.5) <= j <= h + floor(ry + 0.5). One row more on
-        // each side covers the f32 rounding of the footprint's bounds.
-        let inside = samples.partition_point(|sample| (sample.pixel as usize) < n);
-        self.rejected += (samples.len() - inside) as u64;
-        let samples = &samples[..inside];
-        let Some((first, last)) = samples.first().zip(samples.last()) else {
+        // In pixel order, a run's samples outside the film come last, and a sample's own row
+        // (its pixel / width) never decreases along a run: the samples of a run that may touch a
+        // band of rows are one stretch of it, found by binary search. A sample's position lies
+        // in its pixel, row h, so y is in [h, h + 1] and the rows j whose centres are within ry
+        // of it satisfy |j + 0.5 - y| <= ry: h - floor(ry + 0.5) <= j <= h + floor(ry + 0.5).
+        // One row more on each side covers the f32 rounding of the footprint's bounds.
+        let inside = |run: &[FilmSample]| run.partition_point(|sample| (sample.pixel as usize) < n);
+        let outside: usize = runs().map(|run| run.len() - inside(run)).sum();
+        self.rejected += outside as u64;
+        let rows_of = |run: &[FilmSample]| {
+            let run = &run[..inside(run)];
+            let row = |sample: &FilmSample| sample.pixel as usize / width;
+            run.first().zip(run.last()).map(|(a, b)| (row(a), row(b)))
+        };
+        let Some((first_row, last_row)) = runs()
+            .filter_map(rows_of)
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+        else {
             return;
         };
         let reach = splat.map_or(0, |filter| (filter.radius.y + 0.5) as usize + 1);
         let height = self.height as usize;
-        let first_row = (first.pixel as usize / width).saturating_sub(reach);
-        let end_row = (last.pixel as usize / width + reach + 1).min(height);
+        let first_row = first_row.saturating_sub(reach);
+        let end_row = (last_row + reach + 1).min(height);
         let rows = end_row - first_row;
         let bands = (rayon::current_num_threads() * BANDS_PER_THREAD)
-            .min(samples.len() / MIN_SAMPLES_PER_BAND)
+            .min((samples.len() - outside) / MIN_SAMPLES_PER_BAND)
             .clamp(1, rows);
         let band_rows = rows.div_ceil(bands);
-        // The run of samples whose own rows lie within `reach` of the band's rows.
-        let band_samples = |band: usize| {
+        // The stretch of `run` whose own rows lie within `reach` of the band's rows (and in
+        // the film).
+        let band_samples = |band: usize, run: &'_ [FilmSample]| {
             let low = (first_row + band * band_rows).saturating_sub(reach) * width;
-            let high = (first_row + (band + 1) * band_rows + reach) * width;
-            let start = samples.partition_point(|sample| (sample.pixel as usize) < low);
-            let end = samples.partition_point(|sample| (sample.pixel as usize) < high);
-            &samples[start..end.max(start)]
+            let high = ((first_row + (band + 1) * band_rows + reach) * width).min(n);
+            let start = run.partition_point(|sample| (sample.pixel as usize) < low);
+            let end = run.partition_point(|sample| (sample.pixel as usize) < high);
+            start..end.max(start)
         };
         let range = first_row * width..end_row * width;
         let band_pixels = band_rows * width;
@@ -403,8 +430,12 @@ impl Film {
                     #[inline(always)]
                     || {
                         let mut rejected = 0;
-                        for sample in band_samples(band) {
-                            rejected += u64::from(!rows.add(film_size, splat, sample));
+                        for run in runs() {
+                            for sample in &run[band_samples(band, run)] {
+                                if rows.reached_by(film_size.1, splat, sample) {
+                                    rejected += u64::from(!rows.add(film_size, splat, sample));
+                                }
+                            }
                         }
                         rejected
                     },
@@ -442,9 +473,11 @@ impl Film {
     }
 }
 
-/// Bands of rows per thread in [`Film::add_samples`]: a few, so that a thread whose band gets
-/// fewer samples takes another.
-const BANDS_PER_THREAD: usize = 4;
+/// Bands of rows per thread in [`Film::add_sample_runs`]: two, so that a thread held up elsewhere
+/// leaves a band to the others. A chunk's samples are one per pixel, so its bands' work is even;
+/// each boundary between bands costs the samples within the filter's radius of it, whose
+/// weights both bands compute.
+const BANDS_PER_THREAD: usize = 2;
 /// Samples below which a band is not worth a task.
 const MIN_SAMPLES_PER_BAND: usize = 1024;
 
@@ -487,6 +520,21 @@ impl<'a> FilmRows<'a> {
             counts,
             max_component,
         }
+    }
+
+    /// Whether `sample` may add to these rows: its own pixel is here, or its footprint's rows
+    /// (for a filter wider than a pixel) reach here. A band's neighbouring samples mostly do not
+    /// (those within the band's reach but beyond the filter's radius), and are skipped on the
+    /// footprint's span alone, before its weights; [`FilmRows::add`] would add nothing for them.
+    #[inline(always)]
+    fn reached_by(&self, height: u32, splat: Option<&SplatFilter>, sample: &FilmSample) -> bool {
+        if self.pixels.contains(&(sample.pixel as usize)) {
+            return true;
+        }
+        splat.is_some_and(|filter| {
+            let (first, count) = footprint_span(sample.position.y, filter.radius.y, height);
+            first < self.rows.end && first + count > self.rows.start
+        })
     }
 
     /// Adds `sample`'s share of these rows: its weighted radiance in the pixels of these rows
@@ -711,7 +759,7 @@ mod tests {
     /// counts and rejections to the bit, for filters wider than a pixel and the one-pixel box,
     /// positions on their pixels' edges, invalid samples and pixels outside the film, at several
     /// thread counts; with the samples in pixel order (as the renderer retires them, the banded
-    /// path) and in any order.
+    /// path) and in any order, handed over in two calls or as two runs of one.
     #[test]
     fn parallel_splatting_matches_serial_to_the_bit() {
         use crate::film::FilterKind;
@@ -765,11 +813,18 @@ mod tests {
                     let mut film = Film::new(width, height);
                     film.splat_with(filter.clone());
                     pool.install(|| batches.iter().for_each(|b| film.add_samples(b)));
-                    let case = format!("{filter:?}, {threads} threads");
-                    assert_eq!(film.sums, serial.sums, "{case}");
-                    assert_eq!(film.pass_sums, serial.pass_sums, "{case}");
-                    assert_eq!(film.counts, serial.counts, "{case}");
-                    assert_eq!(film.rejected, serial.rejected, "{case}");
+                    // The same batches as the runs of one call, as a chunk's bounces are.
+                    let mut runs = Film::new(width, height);
+                    runs.splat_with(filter.clone());
+                    let ends = [batches[0].len(), batches[0].len() + batches[1].len()];
+                    pool.install(|| runs.add_sample_runs(&batches.concat(), &ends));
+                    for (film, how) in [(&film, "one call a batch"), (&runs, "one call")] {
+                        let case = format!("{filter:?}, {threads} threads, {how}");
+                        assert_eq!(film.sums, serial.sums, "{case}");
+                        assert_eq!(film.pass_sums, serial.pass_sums, "{case}");
+                        assert_eq!(film.counts, serial.counts, "{case}");
+                        assert_eq!(film.rejected, serial.rejected, "{case}");
+                    }
                 }
             }
         }

@@ -28,8 +28,8 @@ pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<Shadow
 }
 
 /// Finished paths add their radiance to the film (one sample at their film position, in
-/// (bounce, slot) order, so the sums do not depend on the thread count; the film splats them in
-/// parallel over bands of rows, one bounce late, beside the next bounce's partition: see
+/// (bounce, slot) order, so the sums do not depend on the thread count; the film splats a
+/// chunk's samples at once, when its last path ends, in parallel over bands of rows: see
 /// [`PathBatch::retire`]), into the sums of their pass; the rest move to the front of the batch.
 pub fn retire_finished_paths(
     mut batch: ResMut<PathBatch>,
@@ -39,5 +39,5 @@ pub fn retire_finished_paths(
     // A chunk's last retire hands over all its samples, so every sample of earlier passes is
     // in the film by now.
     film.begin_pass(pass.0);
-    batch.retire(|samples| film.add_samples(samples));
+    batch.retire(|samples, run_ends| film.add_sample_runs(samples, run_ends));
 }

@@ -22,13 +22,13 @@ macro_rules! path_batch {
             /// Where compaction gathers the live paths to, swapped in afterwards.
             spare: SpareColumns,
             partition: Partition,
-            /// The film samples of the paths that finished in this bounce's retire, reused from
-            /// bounce to bounce (it only grows; see [`Partition::split`]).
+            /// The film samples of the chunk's finished paths so far, bounce after bounce: the
+            /// first `finished_len` (the vector only grows, to the chunk's size; see
+            /// [`Partition::split`]).
             finished: Vec<FilmSample>,
-            /// The film samples of the paths that finished in the previous bounce, not yet handed
-            /// to the film: the first `pending_len` of them.
-            pending: Vec<FilmSample>,
-            pending_len: usize,
+            finished_len: usize,
+            /// Where each bounce's samples end in `finished` (bounces that finished none left out).
+            run_ends: Vec<usize>,
         }
 
         #[derive(Default)]
@@ -50,9 +50,10 @@ macro_rules! path_batch {
             }
 
             /// Partitions the first `len` slots into live and finished paths: the live ones move
-            /// to the front in their order, the finished ones' film samples go to `finished` in
-            /// slot order (see [`Partition::split`]). Returns how many are live.
-            fn split_live(&mut self, finished: &mut Vec<FilmSample>) -> usize {
+            /// to the front in their order, the finished ones' film samples go to `finished`
+            /// from `first_finished` on, in slot order (see [`Partition::split`]). Returns how
+            /// many are live.
+            fn split_live(&mut self, finished: &mut Vec<FilmSample>, first_finished: usize) -> usize {
                 let n = self.len;
                 let sources = LiveSources {
                     $($field: &self.$field[..n],)*
@@ -64,7 +65,7 @@ macro_rules! path_batch {
                 };
                 let live = self.partition.split(
                     sources.alive,
-                    finished,
+                    (finished, first_finished),
                     &sample,
                     |live| Gather {
                         sources,
@@ -159,38 +160,35 @@ path_batch! {
 }
 
 impl PathBatch {
-    /// Removes the finished paths and moves the live ones to the front in their order; hands the
-    /// finished paths to `finish` as film samples, in (bounce, slot) order, so that results do
-    /// not depend on scheduling. Returns how many live.
+    /// Removes the finished paths and moves the live ones to the front in their order; keeps the
+    /// finished paths' film samples, and when no path is left hands all the chunk's to `finish`
+    /// at once: the samples in (bounce, slot) order, so that results do not depend on
+    /// scheduling, and where each bounce's run of them ends (each run is in slot order). Returns
+    /// how many live.
     ///
-    /// A bounce's finished paths are handed over at the next bounce's retire, while that one
-    /// partitions its own (`rayon::join`: one fork-join per bounce for both, where the film's
-    /// adds had to wait for the partition before), and at once when no path is left, so that a
-    /// chunk's last retire leaves nothing pending. The partition moves each block's live paths
-    /// as it finds them, so the slots are read once, while in the cache.
-    pub fn retire(&mut self, mut finish: impl FnMut(&[FilmSample]) + Send) -> usize {
+    /// Once a chunk rather than once a bounce: the film's parallel adds are one fork-join a
+    /// chunk, not one a bounce (a late bounce's few samples were not worth waking the other
+    /// threads for), and each of their bands of rows gets all the chunk's samples there, one per
+    /// pixel, so that the bands share the work evenly. The partition moves each block's live
+    /// paths as it finds them, so the slots are read once, while in the cache.
+    ///
+    /// On one thread there is nothing to share, and each bounce's samples go to the film at
+    /// once, while they and the film rows they touch are still in the cache (kept for the
+    /// chunk's end, they made the one-thread retire about 7 % slower, `foton bench --stages`).
+    pub fn retire(&mut self, finish: impl FnOnce(&[FilmSample], &[usize])) -> usize {
         let n = self.len;
         let mut finished = std::mem::take(&mut self.finished);
-        let pending = std::mem::take(&mut self.pending);
-        let live = match &pending[..self.pending_len] {
-            [] => self.split_live(&mut finished),
-            // Too little to share: a fork-join would cost more than it saves (a late bounce's
-            // few paths), and would wake the other threads for nothing.
-            samples if samples.len() + n <= PARTITION_BLOCK => {
-                finish(samples);
-                self.split_live(&mut finished)
-            }
-            samples => rayon::join(|| finish(samples), || self.split_live(&mut finished)).1,
-        };
-        if live == 0 {
-            finish(&finished[..n]);
-            self.pending_len = 0;
-        } else {
-            self.pending_len = n - live;
+        let live = self.split_live(&mut finished, self.finished_len);
+        if live < n {
+            self.finished_len += n - live;
+            self.run_ends.push(self.finished_len);
         }
-        // This bounce's samples wait for the next; the buffer just handed over takes the next's.
-        self.pending = finished;
-        self.finished = pending;
+        if live == 0 || (rayon::current_num_threads() == 1 && live < n) {
+            finish(&finished[..self.finished_len], &self.run_ends);
+            self.finished_len = 0;
+            self.run_ends.clear();
+        }
+        self.finished = finished;
         live
     }
 }
@@ -213,13 +211,13 @@ const PARTITION_BLOCK: usize = 4096;
 
 impl Partition {
     /// Partitions `alive`'s slots: the finished ones' film samples (`sample(slot)`) to
-    /// `finished` in slot order, and the live ones gathered, in order, by the target
-    /// `gather_to(live)` makes for the first `live` slots of the spare columns (nothing is moved
-    /// when all are live). Returns how many are live.
+    /// `finished` from index `first_finished` on, in slot order, and the live ones gathered, in
+    /// order, by the target `gather_to(live)` makes for the first `live` slots of the spare
+    /// columns (nothing is moved when all are live). Returns how many are live.
     fn split<G: GatherLive>(
         &mut self,
         alive: &[bool],
-        finished: &mut Vec<FilmSample>,
+        (finished, first_finished): (&mut Vec<FilmSample>, usize),
         sample: &(impl Fn(usize) -> FilmSample + Sync),
         gather_to: impl FnOnce(usize) -> G,
     ) -> usize {
@@ -236,16 +234,18 @@ impl Partition {
         if live == alive.len() {
             return live;
         }
-        // Both only grow (to the chunk's size, on its first bounce), and only their first
-        // `live` and `alive.len() - live` entries are used: setting their lengths anew at every
-        // bounce would write each entry on one thread before the parallel writes below.
+        // Both only grow (to the chunk's size, over the first chunk), and only `order`'s first
+        // `live` and `finished`'s first `finished_end` entries are used: setting their lengths
+        // anew at every bounce would write each entry on one thread before the parallel writes
+        // below.
         grow(&mut self.order, live, 0);
         let placeholder = FilmSample {
             pixel: 0,
             position: Vec2::ZERO,
             radiance: Vec3::ZERO,
         };
-        grow(finished, alive.len() - live, placeholder);
+        let finished_end = first_finished + alive.len() - live;
+        grow(finished, finished_end, placeholder);
         let slots = Slots {
             alive,
             counts: &self.counts,
@@ -253,7 +253,7 @@ impl Partition {
         };
         slots.write(
             &mut self.order[..live],
-            &mut finished[..alive.len() - live],
+            &mut finished[first_finished..finished_end],
             sample,
             gather_to(live),
         );
@@ -395,40 +395,85 @@ fn grow<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
 mod tests {
     use super::*;
 
-    /// Three bounces, each finishing fewer paths than the one before: every retire hands over
-    /// exactly the previous bounce's samples (the buffers keep their larger lengths from the
-    /// first), the last, with no path left, its own as well, all in (bounce, slot) order.
+    /// Three bounces, each finishing fewer paths than the one before: nothing is handed over
+    /// while paths live; the last retire, with no path left, hands over every bounce's samples
+    /// once, in (bounce, slot) order, with the end of each bounce's run. The buffer keeps its
+    /// length from chunk to chunk: a second chunk hands over its own samples only.
     #[test]
-    fn retire_hands_over_each_bounce_once_in_order() {
+    fn retire_hands_over_the_chunk_once_in_bounce_order() {
         let n = 3 * PARTITION_BLOCK;
+        let mut batch = PathBatch::default();
+        let mut handed: Vec<(Vec<u32>, Vec<usize>)> = Vec::new();
+        // Samples are kept for the chunk's end where the film's adds are shared among threads.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        for _chunk in 0..2 {
+            batch.resize(n);
+            for i in 0..n {
+                batch.pixel[i] = i as u32;
+                batch.alive[i] = i % 2 == 0;
+            }
+            handed.clear();
+            let mut retire = |batch: &mut PathBatch| {
+                pool.install(|| {
+                    batch.retire(|samples, ends| {
+                        handed.push((samples.iter().map(|s| s.pixel).collect(), ends.to_vec()))
+                    })
+                })
+            };
+            let live = retire(&mut batch);
+            // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish now.
+            for slot in 0..live {
+                batch.alive[slot] = batch.pixel[slot] % 6 != 0;
+            }
+            let still_live = retire(&mut batch);
+            // A bounce where every path lives adds no run.
+            assert_eq!(retire(&mut batch), still_live);
+            let odd: Vec<u32> = (1..n as u32).step_by(2).collect();
+            let sixes: Vec<u32> = (0..n as u32).step_by(6).collect();
+            assert_eq!(still_live, live - sixes.len());
+            batch.alive[..still_live].fill(false);
+            let rest: Vec<u32> = batch.pixel[..still_live].to_vec();
+            assert_eq!(retire(&mut batch), 0);
+            let ends = vec![odd.len(), odd.len() + sixes.len(), n];
+            assert_eq!(handed, vec![([odd, sixes, rest].concat(), ends)]);
+        }
+    }
+
+    /// On one thread each bounce's samples are handed over at once, in slot order.
+    #[test]
+    fn retire_on_one_thread_hands_over_each_bounce() {
+        let n = 2 * PARTITION_BLOCK;
         let mut batch = PathBatch::default();
         batch.resize(n);
         for i in 0..n {
             batch.pixel[i] = i as u32;
-            batch.alive[i] = i % 2 == 0;
+            batch.alive[i] = i % 3 != 0;
         }
-        let mut handed: Vec<Vec<u32>> = Vec::new();
-        let live = batch.retire(|samples| handed.push(samples.iter().map(|s| s.pixel).collect()));
-        assert!(
-            handed.is_empty(),
-            "the first bounce's samples wait for the next retire"
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let mut handed: Vec<(Vec<u32>, Vec<usize>)> = Vec::new();
+        let mut retire = |batch: &mut PathBatch| {
+            pool.install(|| {
+                batch.retire(|samples, ends| {
+                    handed.push((samples.iter().map(|s| s.pixel).collect(), ends.to_vec()))
+                })
+            })
+        };
+        let live = retire(&mut batch);
+        batch.alive[..live].fill(false);
+        let rest: Vec<u32> = batch.pixel[..live].to_vec();
+        assert_eq!(retire(&mut batch), 0);
+        let threes: Vec<u32> = (0..n as u32).step_by(3).collect();
+        let (threes_len, rest_len) = (threes.len(), rest.len());
+        assert_eq!(
+            handed,
+            vec![(threes, vec![threes_len]), (rest, vec![rest_len])]
         );
-        // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish now.
-        for slot in 0..live {
-            batch.alive[slot] = batch.pixel[slot] % 6 != 0;
-        }
-        let still_live =
-            batch.retire(|samples| handed.push(samples.iter().map(|s| s.pixel).collect()));
-        let odd: Vec<u32> = (1..n as u32).step_by(2).collect();
-        let sixes: Vec<u32> = (0..n as u32).step_by(6).collect();
-        assert_eq!(handed, vec![odd.clone()]);
-        assert_eq!(still_live, live - sixes.len());
-        batch.alive[..still_live].fill(false);
-        let rest: Vec<u32> = batch.pixel[..still_live].to_vec();
-        let none_live =
-            batch.retire(|samples| handed.push(samples.iter().map(|s| s.pixel).collect()));
-        assert_eq!(none_live, 0);
-        assert_eq!(handed, vec![odd, sixes, rest]);
     }
 
     #[test]
@@ -445,8 +490,14 @@ mod tests {
         }
         let expected_live: Vec<u32> = (0..n as u32).filter(|&i| batch.alive[i as usize]).collect();
         let mut finished = Vec::new();
-        let live = batch.retire(|samples| {
-            finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let live = pool.install(|| {
+            batch.retire(|samples, _| {
+                finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
+            })
         });
         assert_eq!(live, expected_live.len());
         assert_eq!(batch.len, live);
@@ -456,10 +507,12 @@ mod tests {
             assert_eq!(batch.radiance[i], Vec3::splat(batch.pixel[i] as f32));
             assert!(batch.alive[i]);
         }
-        assert!(finished.is_empty(), "handed over at the next retire");
+        assert!(finished.is_empty(), "handed over when no path is left");
         batch.alive[..live].fill(false);
-        let none_live = batch.retire(|samples| {
-            finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
+        let none_live = pool.install(|| {
+            batch.retire(|samples, _| {
+                finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
+            })
         });
         assert_eq!(none_live, 0);
         let expected_finished: Vec<u32> = (0..n as u32)
