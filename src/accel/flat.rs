@@ -1007,6 +1007,51 @@ mod tests {
             .sum()
     }
 
+    /// The any-hit query of `rays` from t = 0: past `invisible` surfaces tested in lanes, or,
+    /// where there are none to test so, with blocked rays walking.
+    fn any_hits_query<'a>(
+        planes: &'a [Plane],
+        rays: (&'a [Vec3], &'a [Vec3], &'a [f32]),
+        invisible: Option<Invisible>,
+    ) -> AnyHits<'a> {
+        AnyHits {
+            planes,
+            rays,
+            t_min: 0.0,
+            walk_blocked: invisible.is_none(),
+            invisible: invisible.unwrap_or_default(),
+        }
+    }
+
+    /// Closest hits, occlusion by every primitive and occlusion past the invisible ones (rays
+    /// meeting both walk with `walk`) of `queries`' rays, 16 lanes at a time (`avx512`) or 8.
+    fn queries_at_width(
+        flat: &Flat,
+        queries: (&AnyHits, &AnyHits),
+        walk: impl Fn(usize) -> bool,
+        avx512: bool,
+    ) -> (Vec<Option<Hit>>, Vec<bool>, Vec<bool>) {
+        let (all_opaque, past_invisible) = queries;
+        let n = all_opaque.rays.0.len();
+        let never = |_: usize| -> bool { unreachable!("no ray walks without invisible surfaces") };
+        let (mut hits, mut occluded, mut opaque) = (vec![None; n], vec![false; n], vec![false; n]);
+        let (planes, rays) = (all_opaque.planes, all_opaque.rays);
+        // SAFETY: each width only where the CPU has its features (the callers check AVX-512;
+        // a flat scene exists only where the CPU has AVX2).
+        unsafe {
+            if avx512 {
+                flat.closest_hits_avx512(planes, rays, 0.0, &mut hits);
+                flat.any_hits_avx512(all_opaque, never, &mut occluded);
+                flat.any_hits_avx512(past_invisible, walk, &mut opaque);
+            } else {
+                flat.closest_hits_avx2(planes, rays, 0.0, &mut hits);
+                flat.any_hits_avx2(all_opaque, never, &mut occluded);
+                flat.any_hits_avx2(past_invisible, walk, &mut opaque);
+            }
+        }
+        (hits, occluded, opaque)
+    }
+
     /// The coplanar runs' plane tests skip no hit: on `scene` with parallelograms added, with
     /// its rays and rays at the edge of the plane tests ([`run_rays`]), the occlusions (all
     /// opaque, and past every third primitive) at each width are those of the same primitives
@@ -1029,36 +1074,15 @@ mod tests {
         let rays = (&origins[..], &dirs[..], &t_maxs[..]);
         let planes = &accel.planes;
         let pass = PassThrough::new(accel.primitive_count(), |id| id % 3 == 1).unwrap();
-        let query = |invisible: Option<Invisible>| AnyHits {
-            planes,
-            rays,
-            t_min: 0.0,
-            walk_blocked: invisible.is_none(),
-            invisible: invisible.unwrap_or_default(),
-        };
+        let query = |invisible| any_hits_query(planes, rays, invisible);
         let (all_opaque, past_invisible) = (
             query(Some(Invisible::default())),
             query(flat.invisible(planes, &pass)),
         );
         let walk =
             |i: usize| accel.blocked_past_pass_through(origins[i], dirs[i], 0.0, t_maxs[i], &pass);
-        let never = |_: usize| -> bool { unreachable!("no ray walks without invisible surfaces") };
         let run = |flat: &Flat, avx512: bool| {
-            let (mut hits, mut occluded, mut opaque) =
-                (vec![None; n], vec![false; n], vec![false; n]);
-            // SAFETY: each width only where the CPU has its features.
-            unsafe {
-                if avx512 {
-                    flat.closest_hits_avx512(planes, rays, 0.0, &mut hits);
-                    flat.any_hits_avx512(&all_opaque, never, &mut occluded);
-                    flat.any_hits_avx512(&past_invisible, walk, &mut opaque);
-                } else {
-                    flat.closest_hits_avx2(planes, rays, 0.0, &mut hits);
-                    flat.any_hits_avx2(&all_opaque, never, &mut occluded);
-                    flat.any_hits_avx2(&past_invisible, walk, &mut opaque);
-                }
-            }
-            (hits, occluded, opaque)
+            queries_at_width(flat, (&all_opaque, &past_invisible), walk, avx512)
         };
         #[target_feature(enable = "avx2")]
         fn skipped_avx2(flat: &Flat, rays: (&[Vec3], &[Vec3], &[f32])) -> usize {
@@ -1203,35 +1227,15 @@ mod tests {
             let (mut by_width, mut blocked, mut opaque) = (Vec::new(), Vec::new(), Vec::new());
             let invisible = flat.invisible(planes, &pass);
             in_lanes += invisible.is_some() as usize;
-            let query = |invisible: Option<Invisible>| AnyHits {
-                planes,
-                rays,
-                t_min: 0.0,
-                walk_blocked: invisible.is_none(),
-                invisible: invisible.unwrap_or_default(),
-            };
+            let query = |invisible| any_hits_query(planes, rays, invisible);
             let (all_opaque, past_invisible) =
                 (query(Some(Invisible::default())), query(invisible));
             let walk = |i: usize| {
                 accel.blocked_past_pass_through(origins[i], dirs[i], 0.0, t_maxs[i], &pass)
             };
-            let never =
-                |_: usize| -> bool { unreachable!("no ray walks without invisible surfaces") };
             let mut run = |avx512: bool| {
-                let (mut hits, mut occluded, mut opaque_lanes) =
-                    (vec![None; n], vec![false; n], vec![false; n]);
-                // SAFETY: each width only where the CPU has its features.
-                unsafe {
-                    if avx512 {
-                        flat.closest_hits_avx512(planes, rays, 0.0, &mut hits);
-                        flat.any_hits_avx512(&all_opaque, never, &mut occluded);
-                        flat.any_hits_avx512(&past_invisible, walk, &mut opaque_lanes);
-                    } else {
-                        flat.closest_hits_avx2(planes, rays, 0.0, &mut hits);
-                        flat.any_hits_avx2(&all_opaque, never, &mut occluded);
-                        flat.any_hits_avx2(&past_invisible, walk, &mut opaque_lanes);
-                    }
-                }
+                let (hits, occluded, opaque_lanes) =
+                    queries_at_width(flat, (&all_opaque, &past_invisible), walk, avx512);
                 by_width.push(hits);
                 blocked.push(occluded);
                 opaque.push(opaque_lanes);

@@ -12,10 +12,10 @@
 
 use std::f32::consts::PI;
 
-use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, Inputs, Outputs, light_lanes};
-use super::lanes::{
-    F8, LANES, LaneFrame, M8, V8, canonical, concentric_disk, offset_ray_origin, unit_direction,
+use super::diffuse_lanes::{
+    DiffuseQueue, DiffuseVertex, Inputs, Outputs, Sampled, light_lanes, scatter_lanes,
 };
+use super::lanes::{F8, LANES, LaneFrame, M8, V8, canonical, concentric_disk, unit_direction};
 use super::shading::PathBlock;
 use crate::bsdf::microfacet_distribution::Masking;
 use crate::bsdf::{ConductorFresnel, RoughConductor};
@@ -96,12 +96,7 @@ impl<'a> ConductorQueue<'a> {
 /// term, and whether any has a complex index's.
 #[inline(always)]
 fn conductor_lanes(inputs: &Inputs, lobes: &Lobes, fresnel: (bool, bool), out: &mut Outputs) {
-    let (n, ng, p, wo) = (
-        inputs.shading_normal,
-        inputs.geometric_normal,
-        inputs.position,
-        inputs.wo,
-    );
+    let (n, wo) = (inputs.shading_normal, inputs.wo);
     let zero = F8::splat(0.0);
     let frame = LaneFrame::from_z(n);
     let wo_local = frame.to_local(wo);
@@ -139,19 +134,13 @@ fn conductor_lanes(inputs: &Inputs, lobes: &Lobes, fresnel: (bool, bool), out: &
     let (f, pdf) = lobe.eval_and_pdf(wo_unit, wi);
     // `BsdfSample::glossy` and `checked_sample`.
     let sampled = wo_unit.z.gt(zero) & wi.is_finite() & f.is_finite() & is_positive_finite(pdf);
-    let wi_world = frame.to_world(wi);
-    let reflects = (wi.z * wo_local.z).gt(zero);
-    let stays = (wi_world.dot(ng) * wo.dot(ng)).gt(zero);
-    out.scattered = sound & sampled & reflects.eq(stays);
-    out.pdf = pdf;
-    let cos = wi.z.abs();
-    out.throughput = inputs.throughput.mul(V8 {
-        x: f.x * cos / pdf,
-        y: f.y * cos / pdf,
-        z: f.z * cos / pdf,
-    });
-    out.origin = offset_ray_origin(p, ng, wi_world);
-    out.direction = wi_world;
+    let sample = Sampled {
+        wi_local_z: wi.z,
+        wi: frame.to_world(wi),
+        f,
+        pdf,
+    };
+    scatter_lanes(inputs, out, wo_local.z, sound & sampled, sample);
 }
 
 /// `math::is_positive_finite` per lane.

@@ -338,12 +338,7 @@ fn run_kernels(
 /// compilations of [`vex::run`].
 #[inline(always)]
 fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
-    let (n, ng, p, wo) = (
-        inputs.shading_normal,
-        inputs.geometric_normal,
-        inputs.position,
-        inputs.wo,
-    );
+    let (n, wo) = (inputs.shading_normal, inputs.wo);
     let zero = F8::splat(0.0);
     let frame = LaneFrame::from_z(n);
     let wo_local = frame.to_local(wo);
@@ -379,19 +374,56 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
     let sample_above = above(s.z);
     let sample_f = sample_above.select_v(f_lambert, V8::default());
     let sample_pdf = sample_above.select(s.z.max(zero) * FRAC_1_PI, zero);
-    let sampled = wo_unit.z.gt(zero) & sample_pdf.gt(zero) & sample_f.is_finite();
+    let sampled_ok = wo_unit.z.gt(zero) & sample_pdf.gt(zero) & sample_f.is_finite();
     let wi = frame.to_world(s);
-    let reflects = (s.z * wo_local.z).gt(zero);
+    let sampled = Sampled {
+        wi_local_z: s.z,
+        wi,
+        f: sample_f,
+        pdf: sample_pdf,
+    };
+    scatter_lanes(inputs, out, wo_local.z, sound & sampled_ok, sampled);
+}
+
+/// A BSDF sample in lanes: its direction's local z and world direction, value and density.
+pub(super) struct Sampled {
+    pub(super) wi_local_z: F8,
+    pub(super) wi: V8,
+    pub(super) f: V8,
+    pub(super) pdf: F8,
+}
+
+/// `PathSlots::scatter`'s values for the `accepted` lanes' sample (`shade_scattering`'s
+/// checks passed): the path goes on only where `wi` leaves on the side of the geometric
+/// surface that the shading frame says (a reflection stays, a transmission crosses), carrying
+/// throughput f |cos θi| / pdf from an origin offset off the surface.
+#[inline(always)]
+pub(super) fn scatter_lanes(
+    inputs: &Inputs,
+    out: &mut Outputs,
+    wo_local_z: F8,
+    accepted: M8,
+    sample: Sampled,
+) {
+    let zero = F8::splat(0.0);
+    let (ng, wo) = (inputs.geometric_normal, inputs.wo);
+    let Sampled {
+        wi_local_z,
+        wi,
+        f,
+        pdf,
+    } = sample;
+    let reflects = (wi_local_z * wo_local_z).gt(zero);
     let stays = (wi.dot(ng) * wo.dot(ng)).gt(zero);
-    out.scattered = sound & sampled & reflects.eq(stays);
-    out.pdf = sample_pdf;
-    let cos = s.z.abs();
+    out.scattered = accepted & reflects.eq(stays);
+    out.pdf = pdf;
+    let cos = wi_local_z.abs();
     out.throughput = inputs.throughput.mul(V8 {
-        x: sample_f.x * cos / sample_pdf,
-        y: sample_f.y * cos / sample_pdf,
-        z: sample_f.z * cos / sample_pdf,
+        x: f.x * cos / pdf,
+        y: f.y * cos / pdf,
+        z: f.z * cos / pdf,
     });
-    out.origin = offset_ray_origin(p, ng, wi);
+    out.origin = offset_ray_origin(inputs.position, ng, wi);
     out.direction = wi;
 }
 
