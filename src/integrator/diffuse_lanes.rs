@@ -26,7 +26,7 @@ use super::lanes::{
     unit_direction,
 };
 use super::shade_path::russian_roulette;
-use super::shading::{PathBlock, ShadowRay};
+use super::shading::{PathBlock, PathSlots, ShadowRay};
 use crate::accel::vex;
 use crate::light::area::EmitterParallelogram;
 
@@ -126,13 +126,46 @@ pub(super) struct Outputs {
     pub(super) shadow_direction: V8,
     pub(super) shadow_t_max: F8,
     pub(super) contribution: V8,
-    /// The vertex was sound and the BSDF sample made a next ray (else the path ends, keeping
-    /// its shadow ray).
+    /// Where the vertex was sound and the BSDF sample made a next ray (else the path ends,
+    /// keeping its shadow ray).
+    pub(super) next: NextRays,
+    pub(super) pdf: F8,
+}
+
+/// The next rays a kernel made, one lane each: where `scattered`, the path goes on from
+/// `origin` along `direction` with `throughput`; elsewhere it ends.
+#[derive(Clone, Copy, Default)]
+pub(super) struct NextRays {
     pub(super) scattered: M8,
     pub(super) throughput: V8,
     pub(super) origin: V8,
     pub(super) direction: V8,
-    pub(super) pdf: F8,
+}
+
+impl NextRays {
+    /// Lane `lane`'s next ray into `path` from the vertex at `vertex` (`PathSlots::scatter`,
+    /// with `scatter_pdf` for MIS), or the path's end; whether the path goes on.
+    #[inline(always)]
+    pub(super) fn continue_path(
+        &self,
+        lane: usize,
+        path: &mut PathSlots,
+        vertex: Vec3,
+        scatter_pdf: f32,
+    ) -> bool {
+        if !self.scattered.lane(lane) {
+            *path.alive = false;
+            return false;
+        }
+        *path.scatter_pdf = scatter_pdf;
+        path.continue_from(
+            vertex,
+            self.origin.get(lane),
+            self.direction.get(lane),
+            self.throughput.get(lane),
+        );
+        true
+    }
 }
 
 /// A block's Lambertian vertices waiting to be finished, with their slots in the block (and,
@@ -277,19 +310,13 @@ impl<'a> DiffuseQueue<'a> {
                 );
             }
             let mut path = block.paths.slots(slot);
-            if !out.scattered.lane(lane) {
-                *path.alive = false;
-                continue;
+            let vertex = self.inputs.position.get(lane);
+            if out
+                .next
+                .continue_path(lane, &mut path, vertex, out.pdf.0[lane])
+            {
+                russian_roulette(&mut path, rr_depth);
             }
-            // `PathSlots::scatter`, its values computed by the kernel.
-            *path.scatter_pdf = out.pdf.0[lane];
-            path.continue_from(
-                self.inputs.position.get(lane),
-                out.origin.get(lane),
-                out.direction.get(lane),
-                out.throughput.get(lane),
-            );
-            russian_roulette(&mut path, rr_depth);
         }
         self.len = 0;
     }
@@ -415,16 +442,16 @@ pub(super) fn scatter_lanes(
     } = sample;
     let reflects = (wi_local_z * wo_local_z).gt(zero);
     let stays = (wi.dot(ng) * wo.dot(ng)).gt(zero);
-    out.scattered = accepted & reflects.eq(stays);
+    out.next.scattered = accepted & reflects.eq(stays);
     out.pdf = pdf;
     let cos = wi_local_z.abs();
-    out.throughput = inputs.throughput.mul(V8 {
+    out.next.throughput = inputs.throughput.mul(V8 {
         x: f.x * cos / pdf,
         y: f.y * cos / pdf,
         z: f.z * cos / pdf,
     });
-    out.origin = offset_ray_origin(inputs.position, ng, wi);
-    out.direction = wi;
+    out.next.origin = offset_ray_origin(inputs.position, ng, wi);
+    out.next.direction = wi;
 }
 
 /// The lamp lanes' light samples, written where the queued ones are: [`EmitterParallelogram::sample`]
@@ -679,7 +706,7 @@ pub(super) mod tests {
                     let wo_local = frame.to_local(v.wo);
                     let wo_unit = unit_direction(wo_local);
                     let Some(wo_unit) = wo_unit else {
-                        assert!(!out.has_shadow.lane(lane) && !out.scattered.lane(lane));
+                        assert!(!out.has_shadow.lane(lane) && !out.next.scattered.lane(lane));
                         unsound += 1;
                         continue;
                     };
@@ -732,14 +759,14 @@ pub(super) mod tests {
                             let stays = wi.dot(ng) * v.wo.dot(ng) > 0.0;
                             (reflects == stays).then_some((s, wi))
                         });
-                    assert_eq!(out.scattered.lane(lane), next.is_some(), "lane {lane}");
+                    assert_eq!(out.next.scattered.lane(lane), next.is_some(), "lane {lane}");
                     if let Some((s, wi)) = next {
                         let throughput = v.throughput * (s.f * s.wi.z.abs() / s.pdf);
                         assert_eq!(out.pdf.0[lane].to_bits(), s.pdf.to_bits());
-                        assert_eq!(bits(out.throughput.get(lane)), bits(throughput));
-                        assert_eq!(bits(out.direction.get(lane)), bits(wi));
+                        assert_eq!(bits(out.next.throughput.get(lane)), bits(throughput));
+                        assert_eq!(bits(out.next.direction.get(lane)), bits(wi));
                         let origin = offset_ray_origin(v.position, v.geometric_normal, wi);
-                        assert_eq!(bits(out.origin.get(lane)), bits(origin));
+                        assert_eq!(bits(out.next.origin.get(lane)), bits(origin));
                         scattered += 1;
                     }
                 }

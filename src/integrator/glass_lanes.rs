@@ -9,7 +9,8 @@
 
 use glam::Vec3;
 
-use super::lanes::{F8, LANES, LaneFrame, M8, V8, canonical, offset_ray_origin, unit_direction};
+use super::diffuse_lanes::NextRays;
+use super::lanes::{F8, LANES, LaneFrame, V8, canonical, offset_ray_origin, unit_direction};
 use super::shading::PathBlock;
 use crate::accel::vex;
 use crate::bsdf::SmoothGlass;
@@ -41,23 +42,13 @@ struct Inputs {
     u: F8,
 }
 
-/// The kernel's results, one lane each.
-#[derive(Clone, Copy, Default)]
-struct Outputs {
-    /// The vertex was sound and the sample made a next ray (else the path ends).
-    scattered: M8,
-    throughput: V8,
-    origin: V8,
-    direction: V8,
-}
-
 /// A block's glass vertices waiting to be finished, with their slots in the block.
 #[derive(Default)]
 pub struct GlassQueue {
     len: usize,
     slots: [usize; LANES],
     inputs: Inputs,
-    outputs: Outputs,
+    outputs: NextRays,
 }
 
 impl GlassQueue {
@@ -95,17 +86,7 @@ impl GlassQueue {
         );
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             let mut path = block.paths.slots(slot);
-            if !out.scattered.lane(lane) {
-                *path.alive = false;
-                continue;
-            }
-            *path.scatter_pdf = 0.0;
-            path.continue_from(
-                self.inputs.position.get(lane),
-                out.origin.get(lane),
-                out.direction.get(lane),
-                out.throughput.get(lane),
-            );
+            out.continue_path(lane, &mut path, self.inputs.position.get(lane), 0.0);
         }
         self.len = 0;
     }
@@ -114,7 +95,7 @@ impl GlassQueue {
 /// The lanes of [`GlassQueue::finish`]: `shade_scattering`'s operations on smooth glass
 /// (`Bsdf::sample_unit_wo`, `Dielectric::sample`, `checked_sample`, `PathSlots::scatter`).
 #[inline(always)]
-fn glass_lanes(inputs: &Inputs, out: &mut Outputs) {
+fn glass_lanes(inputs: &Inputs, out: &mut NextRays) {
     let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
     let (ng, p, wo) = (inputs.geometric_normal, inputs.position, inputs.wo);
     let frame = LaneFrame::from_z(inputs.shading_normal);
@@ -254,7 +235,7 @@ mod tests {
             for (lane, (vertex, _)) in vertices.iter().enumerate() {
                 queue.push(lane, *vertex);
             }
-            let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
+            let (mut baseline, mut dispatched) = (NextRays::default(), NextRays::default());
             glass_lanes(&queue.inputs, &mut baseline);
             vex::run(|| glass_lanes(&queue.inputs, &mut dispatched));
             for (lane, (v, bsdf)) in vertices.iter().enumerate() {
