@@ -96,7 +96,7 @@ impl<'a> ConductorQueue<'a> {
 /// term, and whether any has a complex index's.
 #[inline(always)]
 fn conductor_lanes(inputs: &Inputs, lobes: &Lobes, fresnel: (bool, bool), out: &mut Outputs) {
-    let (n, wo) = (inputs.shading_normal, inputs.wo);
+    let (n, wo) = (inputs.surface.shading_normal, inputs.surface.wo);
     let zero = F8::splat(0.0);
     let frame = LaneFrame::from_z(n);
     let wo_local = frame.to_local(wo);

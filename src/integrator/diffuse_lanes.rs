@@ -22,8 +22,8 @@ use std::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
 use super::lanes::{
-    F8, LANES, LaneFrame, M8, V8, canonical, concentric_disk, offset_ray_origin, power_heuristic,
-    unit_direction,
+    F8, LANES, LaneFrame, M8, QueuedSurface, SurfaceLanes, V8, canonical, concentric_disk,
+    offset_ray_origin, power_heuristic, unit_direction,
 };
 use super::shade_path::russian_roulette;
 use super::shading::{PathBlock, PathSlots, ShadowRay};
@@ -66,12 +66,8 @@ pub enum VertexLight<'a> {
 /// reflectance, the path's throughput, its light sample and its 2D sample for the direction.
 #[derive(Clone, Copy, Debug)]
 pub struct DiffuseVertex<'a> {
-    pub position: Vec3,
-    pub geometric_normal: Vec3,
-    pub shading_normal: Vec3,
-    pub wo: Vec3,
+    pub surface: QueuedSurface,
     pub reflectance: Vec3,
-    pub throughput: Vec3,
     pub light: VertexLight<'a>,
     pub u: Vec2,
 }
@@ -88,13 +84,9 @@ const NO_LIGHT: LightPoint = LightPoint {
 /// The queued vertices, one lane each (structure of arrays).
 #[derive(Clone, Copy, Default)]
 pub(super) struct Inputs {
-    pub(super) position: V8,
-    pub(super) geometric_normal: V8,
-    pub(super) shading_normal: V8,
-    pub(super) wo: V8,
+    pub(super) surface: SurfaceLanes,
     /// The Lambertian's reflectance, or the factor on a conductor's lobe.
     pub(super) reflectance: V8,
-    pub(super) throughput: V8,
     /// The light sample's fields; `has_light` false where there is none (the other fields
     /// then hold harmless values). A lamp lane has none yet: its `light_radiance` is the
     /// lamp's and its `light_pdf` the probability of choosing it.
@@ -221,12 +213,8 @@ impl<'a> DiffuseQueue<'a> {
     pub fn push(&mut self, slot: usize, vertex: DiffuseVertex<'a>) {
         let (lane, inputs) = (self.len, &mut self.inputs);
         self.slots[lane] = slot;
-        inputs.position.set(lane, vertex.position);
-        inputs.geometric_normal.set(lane, vertex.geometric_normal);
-        inputs.shading_normal.set(lane, vertex.shading_normal);
-        inputs.wo.set(lane, vertex.wo);
+        inputs.surface.set(lane, &vertex.surface);
         inputs.reflectance.set(lane, vertex.reflectance);
-        inputs.throughput.set(lane, vertex.throughput);
         let (has_light, light, lamp) = match vertex.light {
             VertexLight::Point(light) => (true, light, false),
             VertexLight::None => (false, NO_LIGHT, false),
@@ -310,7 +298,7 @@ impl<'a> DiffuseQueue<'a> {
                 );
             }
             let mut path = block.paths.slots(slot);
-            let vertex = self.inputs.position.get(lane);
+            let vertex = self.inputs.surface.position.get(lane);
             if out
                 .next
                 .continue_path(lane, &mut path, vertex, out.pdf.0[lane])
@@ -365,7 +353,7 @@ fn run_kernels(
 /// compilations of [`vex::run`].
 #[inline(always)]
 fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
-    let (n, wo) = (inputs.shading_normal, inputs.wo);
+    let (n, wo) = (inputs.surface.shading_normal, inputs.surface.wo);
     let zero = F8::splat(0.0);
     let frame = LaneFrame::from_z(n);
     let wo_local = frame.to_local(wo);
@@ -433,7 +421,7 @@ pub(super) fn scatter_lanes(
     sample: Sampled,
 ) {
     let zero = F8::splat(0.0);
-    let (ng, wo) = (inputs.geometric_normal, inputs.wo);
+    let (ng, wo) = (inputs.surface.geometric_normal, inputs.surface.wo);
     let Sampled {
         wi_local_z,
         wi,
@@ -445,12 +433,12 @@ pub(super) fn scatter_lanes(
     out.next.scattered = accepted & reflects.eq(stays);
     out.pdf = pdf;
     let cos = wi_local_z.abs();
-    out.next.throughput = inputs.throughput.mul(V8 {
+    out.next.throughput = inputs.surface.throughput.mul(V8 {
         x: f.x * cos / pdf,
         y: f.y * cos / pdf,
         z: f.z * cos / pdf,
     });
-    out.next.origin = offset_ray_origin(inputs.position, ng, wi);
+    out.next.origin = offset_ray_origin(inputs.surface.position, ng, wi);
     out.next.direction = wi;
 }
 
@@ -460,7 +448,11 @@ pub(super) fn scatter_lanes(
 #[inline(always)]
 fn sample_lamps(inputs: &mut Inputs) {
     let zero = F8::splat(0.0);
-    let (p, corner, normal) = (inputs.position, inputs.lamp_corner, inputs.lamp_normal);
+    let (p, corner, normal) = (
+        inputs.surface.position,
+        inputs.lamp_corner,
+        inputs.lamp_normal,
+    );
     let (e1, e2, [ux, uy]) = (inputs.lamp_edge1, inputs.lamp_edge2, inputs.lamp_u);
     let lit = !(p - corner).dot(normal).le(zero);
     let point = V8 {
@@ -503,7 +495,7 @@ pub(super) fn light_lanes(
     frame: &LaneFrame,
     eval: impl FnOnce(V8, M8) -> (V8, F8),
 ) {
-    let (ng, p) = (inputs.geometric_normal, inputs.position);
+    let (ng, p) = (inputs.surface.geometric_normal, inputs.surface.position);
     let zero = F8::splat(0.0);
     let wi = inputs.light_wi;
     let wi_local = frame.to_local(wi);
@@ -515,6 +507,7 @@ pub(super) fn light_lanes(
     let weight =
         M8::from(inputs.light_delta).select(F8::splat(1.0), power_heuristic(light_pdf, bsdf_pdf));
     let contribution = inputs
+        .surface
         .throughput
         .mul(f)
         .mul(inputs.light_radiance)
@@ -606,13 +599,17 @@ pub(super) mod tests {
             2 => Vec2::new(-0.25, 0.75),
             _ => rng.next_2d(),
         };
+        let position = 20.0 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5);
+        let reflectance = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         DiffuseVertex {
-            position: 20.0 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5),
-            geometric_normal,
-            shading_normal: n,
-            wo,
-            reflectance: Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
-            throughput: Vec3::new(rng.next_f32(), 1.0, 3.0 * rng.next_f32()),
+            surface: QueuedSurface {
+                position,
+                geometric_normal,
+                shading_normal: n,
+                wo,
+                throughput: Vec3::new(rng.next_f32(), 1.0, 3.0 * rng.next_f32()),
+            },
+            reflectance,
             light,
             u,
         }
@@ -628,7 +625,10 @@ pub(super) mod tests {
         match vertex.light {
             VertexLight::None => None,
             VertexLight::Point(light) => Some(light),
-            VertexLight::Lamp(lamp) => (lamp.lamp.sample(vertex.position, lamp.u, lamp.radiance))
+            VertexLight::Lamp(lamp) => {
+                (lamp
+                    .lamp
+                    .sample(vertex.surface.position, lamp.u, lamp.radiance))
                 .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
                 .map(|sample| LightPoint {
                     wi: sample.wi,
@@ -636,7 +636,8 @@ pub(super) mod tests {
                     radiance: sample.radiance,
                     pdf: lamp.probability * sample.pdf,
                     delta: sample.delta,
-                }),
+                })
+            }
         }
     }
 
@@ -702,8 +703,8 @@ pub(super) mod tests {
             let [baseline, dispatched] = lanes(&vertices, &bsdfs);
             for (lane, v) in vertices.iter().enumerate() {
                 for out in [&baseline, &dispatched] {
-                    let frame = Frame::from_z(v.shading_normal);
-                    let wo_local = frame.to_local(v.wo);
+                    let frame = Frame::from_z(v.surface.shading_normal);
+                    let wo_local = frame.to_local(v.surface.wo);
                     let wo_unit = unit_direction(wo_local);
                     let Some(wo_unit) = wo_unit else {
                         assert!(!out.has_shadow.lane(lane) && !out.next.scattered.lane(lane));
@@ -713,7 +714,7 @@ pub(super) mod tests {
                     let bsdf = bsdfs[lane];
                     let shadow = scalar_light(v).and_then(|light| {
                         let wi_local = frame.to_local(light.wi);
-                        if light.wi.dot(v.geometric_normal) * wi_local.z <= 0.0 {
+                        if light.wi.dot(v.surface.geometric_normal) * wi_local.z <= 0.0 {
                             return None;
                         }
                         let (f, bsdf_pdf) = bsdf.eval_and_pdf_unit_wo(wo_unit, wi_local);
@@ -726,10 +727,14 @@ pub(super) mod tests {
                         } else {
                             power_heuristic(1, light.pdf, 1, bsdf_pdf)
                         };
-                        let contribution = v.throughput * f * light.radiance * weight / light.pdf;
+                        let contribution =
+                            v.surface.throughput * f * light.radiance * weight / light.pdf;
                         contribution.is_finite().then(|| {
-                            let origin =
-                                offset_ray_origin(v.position, v.geometric_normal, light.wi);
+                            let origin = offset_ray_origin(
+                                v.surface.position,
+                                v.surface.geometric_normal,
+                                light.wi,
+                            );
                             (
                                 origin,
                                 light.wi,
@@ -755,17 +760,18 @@ pub(super) mod tests {
                         .and_then(|s| {
                             let wi = frame.to_world(s.wi);
                             let reflects = s.wi.z * wo_local.z > 0.0;
-                            let ng = v.geometric_normal;
-                            let stays = wi.dot(ng) * v.wo.dot(ng) > 0.0;
+                            let ng = v.surface.geometric_normal;
+                            let stays = wi.dot(ng) * v.surface.wo.dot(ng) > 0.0;
                             (reflects == stays).then_some((s, wi))
                         });
                     assert_eq!(out.next.scattered.lane(lane), next.is_some(), "lane {lane}");
                     if let Some((s, wi)) = next {
-                        let throughput = v.throughput * (s.f * s.wi.z.abs() / s.pdf);
+                        let throughput = v.surface.throughput * (s.f * s.wi.z.abs() / s.pdf);
                         assert_eq!(out.pdf.0[lane].to_bits(), s.pdf.to_bits());
                         assert_eq!(bits(out.next.throughput.get(lane)), bits(throughput));
                         assert_eq!(bits(out.next.direction.get(lane)), bits(wi));
-                        let origin = offset_ray_origin(v.position, v.geometric_normal, wi);
+                        let origin =
+                            offset_ray_origin(v.surface.position, v.surface.geometric_normal, wi);
                         assert_eq!(bits(out.next.origin.get(lane)), bits(origin));
                         scattered += 1;
                     }

@@ -7,10 +7,11 @@
 //! order, both sides of each branch computed and one selected, so the image is the same to the
 //! bit as one vertex at a time (tested).
 
-use glam::Vec3;
-
 use super::diffuse_lanes::NextRays;
-use super::lanes::{F8, LANES, LaneFrame, V8, canonical, offset_ray_origin, unit_direction};
+use super::lanes::{
+    F8, LANES, LaneFrame, QueuedSurface, SurfaceLanes, V8, canonical, offset_ray_origin,
+    unit_direction,
+};
 use super::shading::PathBlock;
 use crate::accel::vex;
 use crate::bsdf::SmoothGlass;
@@ -19,11 +20,7 @@ use crate::bsdf::SmoothGlass;
 /// the path's throughput, the glass and the lobe sample.
 #[derive(Clone, Copy, Debug)]
 pub struct GlassVertex {
-    pub position: Vec3,
-    pub geometric_normal: Vec3,
-    pub shading_normal: Vec3,
-    pub wo: Vec3,
-    pub throughput: Vec3,
+    pub surface: QueuedSurface,
     pub glass: SmoothGlass,
     pub u: f32,
 }
@@ -31,11 +28,7 @@ pub struct GlassVertex {
 /// The queued vertices, one lane each.
 #[derive(Clone, Copy, Default)]
 struct Inputs {
-    position: V8,
-    geometric_normal: V8,
-    shading_normal: V8,
-    wo: V8,
-    throughput: V8,
+    surface: SurfaceLanes,
     reflectance: V8,
     transmittance: V8,
     eta: F8,
@@ -61,11 +54,7 @@ impl GlassQueue {
     pub fn push(&mut self, slot: usize, vertex: GlassVertex) {
         let (lane, inputs) = (self.len, &mut self.inputs);
         self.slots[lane] = slot;
-        inputs.position.set(lane, vertex.position);
-        inputs.geometric_normal.set(lane, vertex.geometric_normal);
-        inputs.shading_normal.set(lane, vertex.shading_normal);
-        inputs.wo.set(lane, vertex.wo);
-        inputs.throughput.set(lane, vertex.throughput);
+        inputs.surface.set(lane, &vertex.surface);
         inputs.reflectance.set(lane, vertex.glass.reflectance);
         inputs.transmittance.set(lane, vertex.glass.transmittance);
         inputs.eta.0[lane] = vertex.glass.eta;
@@ -86,7 +75,7 @@ impl GlassQueue {
         );
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             let mut path = block.paths.slots(slot);
-            out.continue_path(lane, &mut path, self.inputs.position.get(lane), 0.0);
+            out.continue_path(lane, &mut path, self.inputs.surface.position.get(lane), 0.0);
         }
         self.len = 0;
     }
@@ -97,8 +86,12 @@ impl GlassQueue {
 #[inline(always)]
 fn glass_lanes(inputs: &Inputs, out: &mut NextRays) {
     let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
-    let (ng, p, wo) = (inputs.geometric_normal, inputs.position, inputs.wo);
-    let frame = LaneFrame::from_z(inputs.shading_normal);
+    let (ng, p, wo) = (
+        inputs.surface.geometric_normal,
+        inputs.surface.position,
+        inputs.surface.wo,
+    );
+    let frame = LaneFrame::from_z(inputs.surface.shading_normal);
     let (wo, sound) = unit_direction(frame.to_local(wo));
     let uc = canonical(inputs.u);
     let eta = inputs.eta;
@@ -153,7 +146,7 @@ fn glass_lanes(inputs: &Inputs, out: &mut NextRays) {
         & pdf.le(F8::splat(f32::MAX));
     out.scattered = sound & sampled;
     let cos = wi.z.abs();
-    out.throughput = inputs.throughput.mul(V8 {
+    out.throughput = inputs.surface.throughput.mul(V8 {
         x: f.x * cos / pdf,
         y: f.y * cos / pdf,
         z: f.z * cos / pdf,
@@ -165,7 +158,7 @@ fn glass_lanes(inputs: &Inputs, out: &mut NextRays) {
 
 #[cfg(test)]
 mod tests {
-    use glam::Vec2;
+    use glam::{Vec2, Vec3};
 
     use super::*;
     use crate::bsdf::frame::Frame;
@@ -210,11 +203,13 @@ mod tests {
             _ => rng.next_f32(),
         };
         let vertex = GlassVertex {
-            position: 20.0 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5),
-            geometric_normal,
-            shading_normal: n,
-            wo,
-            throughput: Vec3::new(rng.next_f32(), 1.0, 3.0 * rng.next_f32()),
+            surface: QueuedSurface {
+                position: 20.0 * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5),
+                geometric_normal,
+                shading_normal: n,
+                wo,
+                throughput: Vec3::new(rng.next_f32(), 1.0, 3.0 * rng.next_f32()),
+            },
             glass: bsdf.smooth_glass().expect("smooth glass"),
             u,
         };
@@ -240,8 +235,8 @@ mod tests {
             vex::run(|| glass_lanes(&queue.inputs, &mut dispatched));
             for (lane, (v, bsdf)) in vertices.iter().enumerate() {
                 for out in [&baseline, &dispatched] {
-                    let frame = Frame::from_z(v.shading_normal);
-                    let next = unit_direction(frame.to_local(v.wo))
+                    let frame = Frame::from_z(v.surface.shading_normal);
+                    let next = unit_direction(frame.to_local(v.surface.wo))
                         .and_then(|wo| bsdf.sample_unit_wo(wo, Vec2::splat(0.5), v.u))
                         .filter(|s| s.pdf > 0.0);
                     assert_eq!(out.scattered.lane(lane), next.is_some(), "lane {lane}");
@@ -251,12 +246,16 @@ mod tests {
                     };
                     assert!(s.delta);
                     let wi = frame.to_world(s.wi);
-                    let throughput = v.throughput * (s.f * s.wi.z.abs() / s.pdf);
+                    let throughput = v.surface.throughput * (s.f * s.wi.z.abs() / s.pdf);
                     assert_eq!(bits(out.throughput.get(lane)), bits(throughput));
                     assert_eq!(bits(out.direction.get(lane)), bits(wi));
-                    let origin = offset_ray_origin(v.position, v.geometric_normal, wi);
+                    let origin =
+                        offset_ray_origin(v.surface.position, v.surface.geometric_normal, wi);
                     assert_eq!(bits(out.origin.get(lane)), bits(origin));
-                    if wi.dot(v.geometric_normal) * v.wo.dot(v.geometric_normal) > 0.0 {
+                    if wi.dot(v.surface.geometric_normal)
+                        * v.surface.wo.dot(v.surface.geometric_normal)
+                        > 0.0
+                    {
                         reflected += 1;
                     } else {
                         refracted += 1;

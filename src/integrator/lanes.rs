@@ -432,3 +432,36 @@ pub fn concentric_disk(u: [F8; 2]) -> (F8, F8) {
         centre.select(zero, radius * wide.select(sin, cos)),
     )
 }
+
+/// A queued vertex's surface (its normals as `face_forward` left them), the direction towards
+/// where the path came from, and the path's throughput: what every lane kernel starts from.
+#[derive(Clone, Copy, Debug)]
+pub struct QueuedSurface {
+    pub position: Vec3,
+    pub geometric_normal: Vec3,
+    pub shading_normal: Vec3,
+    pub wo: Vec3,
+    pub throughput: Vec3,
+}
+
+/// [`QueuedSurface`]s, one lane each.
+#[derive(Clone, Copy, Default)]
+pub(super) struct SurfaceLanes {
+    pub(super) position: V8,
+    pub(super) geometric_normal: V8,
+    pub(super) shading_normal: V8,
+    pub(super) wo: V8,
+    pub(super) throughput: V8,
+}
+
+impl SurfaceLanes {
+    /// Writes `surface` into lane `lane`.
+    #[inline(always)]
+    pub(super) fn set(&mut self, lane: usize, surface: &QueuedSurface) {
+        self.position.set(lane, surface.position);
+        self.geometric_normal.set(lane, surface.geometric_normal);
+        self.shading_normal.set(lane, surface.shading_normal);
+        self.wo.set(lane, surface.wo);
+        self.throughput.set(lane, surface.throughput);
+    }
+}

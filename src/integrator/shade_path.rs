@@ -10,6 +10,7 @@ use super::batch::{PathBatch, ShadowBatch};
 use super::conductor_lanes::ConductorQueue;
 use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LampPoint, LightPoint, VertexLight};
 use super::glass_lanes::{GlassQueue, GlassVertex};
+use super::lanes::QueuedSurface;
 use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_blocks};
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, unit_direction};
@@ -150,11 +151,7 @@ fn shade_vertex<'a>(
         queues.glass.push(
             slot,
             GlassVertex {
-                position: surface.position,
-                geometric_normal: surface.geometric_normal,
-                shading_normal: surface.shading_normal,
-                wo,
-                throughput: *path.throughput,
+                surface: queued_surface(&surface, wo, &path),
                 glass,
                 u,
             },
@@ -245,6 +242,18 @@ fn shade_scattering(
     shadow
 }
 
+/// The surface a queued vertex starts from: `surface`, the direction `wo` and the path's
+/// throughput.
+fn queued_surface(surface: &SurfacePoint, wo: Vec3, path: &PathSlots) -> QueuedSurface {
+    QueuedSurface {
+        position: surface.position,
+        geometric_normal: surface.geometric_normal,
+        shading_normal: surface.shading_normal,
+        wo,
+        throughput: *path.throughput,
+    }
+}
+
 /// A queued vertex's random numbers and light sample, drawn in the order the scalar path draws
 /// them (light choice, light point, lobe, direction), for the lanes that finish it; a
 /// rectangle lamp sampled by area is left for the kernel to sample, eight vertices at once.
@@ -292,12 +301,8 @@ fn queued_vertex<'a>(
     };
     let (_u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
     DiffuseVertex {
-        position: surface.position,
-        geometric_normal: surface.geometric_normal,
-        shading_normal: surface.shading_normal,
-        wo,
+        surface: queued_surface(surface, wo, path),
         reflectance,
-        throughput: *path.throughput,
         light,
         u: u_direction,
     }
