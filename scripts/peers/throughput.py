@@ -3,13 +3,17 @@
 
 Run from the repository root (after `bash scripts/peers/setup.sh` and `cargo build --release`):
 
-    .venv-peers/bin/python scripts/peers/throughput.py [--spp 64] [--repeat 3]
+    .venv-peers/bin/python scripts/peers/throughput.py [--spp 64] [--repeat 3] [--rounds 3]
+        [--foton BIN] [--baseline OLD_BIN]
 
-For each of scripts/peers/{furnace,dof-sky,cornell}.xml: `foton bench FILE --spp N --repeat R`
-(its median paths per second over the whole render), then Mitsuba 3's render call on the same
-file with the same spp: one render first to compile the kernels, then the median of R timed
-renders. Prints a Markdown table of samples per second and the ratio foton / Mitsuba, with the
-load average before and after (ratios mean little on a loaded machine). About 3 minutes.
+For each of scripts/peers/{furnace,dof-sky,cornell}.xml, Mitsuba 3's render call compiles its
+kernels once, then --rounds rounds alternate, seconds apart: `foton bench FILE --spp N
+--repeat R` (its median paths per second over the whole render), the --baseline binary's
+bench where given, and the median of R timed Mitsuba renders at the same spp. This machine's
+speed drifts by up to 30 % within minutes, so each round's ratio is taken between neighbours
+and the table gives the median of the rounds' ratios (with their range) beside the medians of
+the speeds. Prints a Markdown table with the load average before and after. About 1 minute a
+round.
 """
 
 import argparse
@@ -46,48 +50,87 @@ def foton_paths_per_second(foton, scene, spp, repeat):
     return float(match.group(1)) * 1e6
 
 
-def mitsuba_samples_per_second(scene, spp, repeat):
-    import drjit as dr
+class Mitsuba:
+    """One scene loaded in Mitsuba 3, its kernels compiled by a first render."""
 
-    loaded = mi.load_file(str(scene), spp=str(spp))
-    film = loaded.sensors()[0].film().crop_size()
-    samples = int(film[0]) * int(film[1]) * spp
-    times = []
-    # The first render compiles the kernels; the same seed keeps the later ones from recompiling.
-    for _ in range(repeat + 1):
+    def __init__(self, scene, spp):
+        self.spp = spp
+        self.scene = mi.load_file(str(scene), spp=str(spp))
+        film = self.scene.sensors()[0].film().crop_size()
+        self.samples = int(film[0]) * int(film[1]) * spp
+        self.render_seconds()
+
+    def render_seconds(self):
+        import drjit as dr
+
         start = time.perf_counter()
-        image = mi.render(loaded, spp=spp, seed=0)
+        # The same seed keeps later renders from recompiling the kernels.
+        image = mi.render(self.scene, spp=self.spp, seed=0)
         dr.eval(image)
         dr.sync_thread()
-        times.append(time.perf_counter() - start)
-    return samples / statistics.median(times[1:])
+        return time.perf_counter() - start
+
+    def samples_per_second(self, repeat):
+        return self.samples / statistics.median(self.render_seconds() for _ in range(repeat))
+
+
+def mega(values):
+    return f"{statistics.median(values) / 1e6:.2f}"
+
+
+def ratio_cell(ratios):
+    return f"{statistics.median(ratios):.2f}x ({min(ratios):.2f}-{max(ratios):.2f})"
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--foton", type=Path, default=REPO / "target/release/foton")
+    parser.add_argument("--baseline", type=Path, help="another foton binary, alternated with --foton")
     args = parser.parse_args()
-    if not args.foton.exists():
-        sys.exit(f"error: {args.foton} not found: run `cargo build --release` first")
+    for binary in filter(None, [args.foton, args.baseline]):
+        if not binary.exists():
+            sys.exit(f"error: {binary} not found: run `cargo build --release` first")
     mi.set_variant("llvm_ad_rgb")
     before = load_average()
     rows = []
     for name in SCENES:
         scene = REPO / "scripts/peers" / f"{name}.xml"
-        # Mitsuba's threads stay busy for some hundred milliseconds after a render call (see
-        # equal_time.py): foton's bench starts after a pause.
-        time.sleep(1.0)
-        foton = foton_paths_per_second(args.foton, scene, args.spp, args.repeat)
-        mitsuba = mitsuba_samples_per_second(scene, args.spp, args.repeat)
-        rows.append((name, foton, mitsuba))
-        print(f"{name}: foton {foton / 1e6:.2f} M/s, Mitsuba {mitsuba / 1e6:.2f} M/s", file=sys.stderr)
-    print(f"{args.spp} spp, medians of {args.repeat}; load average before {before}, after {load_average()}\n")
-    print("| scene | foton M samples/s | Mitsuba 3 llvm_ad_rgb M samples/s | foton / Mitsuba |")
-    print("|---|---|---|---|")
-    for name, foton, mitsuba in rows:
-        print(f"| {name}.xml | {foton / 1e6:.2f} | {mitsuba / 1e6:.2f} | {foton / mitsuba:.2f}x |")
+        mitsuba = Mitsuba(scene, args.spp)
+        fotons, baselines, mitsubas = [], [], []
+        for round in range(args.rounds):
+            # Mitsuba's threads stay busy for some hundred milliseconds after a render call
+            # (see equal_time.py): foton's bench starts after a pause.
+            time.sleep(1.0)
+            fotons.append(foton_paths_per_second(args.foton, scene, args.spp, args.repeat))
+            if args.baseline:
+                baselines.append(foton_paths_per_second(args.baseline, scene, args.spp, args.repeat))
+            mitsubas.append(mitsuba.samples_per_second(args.repeat))
+            line = f"{name} round {round + 1}: foton {fotons[-1] / 1e6:.2f} M/s"
+            if args.baseline:
+                line += f", baseline {baselines[-1] / 1e6:.2f} M/s"
+            print(f"{line}, Mitsuba {mitsubas[-1] / 1e6:.2f} M/s", file=sys.stderr)
+        rows.append((name, fotons, baselines, mitsubas))
+    print(
+        f"{args.spp} spp; {args.rounds} alternating rounds, each the median of {args.repeat} renders; "
+        f"load average before {before}, after {load_average()}\n"
+    )
+    header = "| scene | foton M samples/s | Mitsuba 3 llvm_ad_rgb M samples/s | foton / Mitsuba |"
+    rule = "|---|---|---|---|"
+    if args.baseline:
+        header += " baseline M samples/s | baseline / Mitsuba | foton / baseline |"
+        rule += "---|---|---|"
+    print(header)
+    print(rule)
+    for name, fotons, baselines, mitsubas in rows:
+        row = f"| {name}.xml | {mega(fotons)} | {mega(mitsubas)} | "
+        row += ratio_cell([f / m for f, m in zip(fotons, mitsubas)]) + " |"
+        if args.baseline:
+            row += f" {mega(baselines)} | " + ratio_cell([b / m for b, m in zip(baselines, mitsubas)])
+            row += " | " + ratio_cell([f / b for f, b in zip(fotons, baselines)]) + " |"
+        print(row)
 
 
 if __name__ == "__main__":
