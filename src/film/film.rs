@@ -64,23 +64,54 @@ impl SplatFilter {
     #[inline(always)]
     fn footprint(&self, axis: usize, position: f32, size: u32) -> AxisFootprint {
         let (first, count) = footprint_span(position, self.radius[axis], size);
-        // The centres j + 0.5 of pixels j = first + 4 group + lane, as the group's first index
-        // plus (lane + 0.5): exact, and so the same bits, below 2^22 pixels.
-        let group = |group: usize| {
-            let group_first = (first + 4 * group) as i32 as f32;
-            let centres = Vec4::splat(group_first) + Vec4::new(0.5, 1.5, 2.5, 3.5);
-            self.values(axis, Vec4::splat(position) - centres)
-                .to_array()
-        };
+        let first_group = self.values(axis, group_offsets(position, first, 0));
+        self.footprint_from(axis, position, (first, count), first_group)
+    }
+
+    /// Both axes' footprints of a splat at `position` on a film of `size` pixels, as
+    /// [`SplatFilter::footprint`] gives them; with AVX2, both at once
+    /// ([`SplatFilter::footprints_with_avx2`]).
+    #[inline(always)]
+    fn footprints(
+        &self,
+        position: Vec2,
+        size: (u32, u32),
+        avx2: Option<Avx2>,
+    ) -> [AxisFootprint; 2] {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = avx2 {
+            return self.footprints_with_avx2(avx2, position, size);
+        }
+        let _ = avx2;
+        [
+            self.footprint(0, position.x, size.0),
+            self.footprint(1, position.y, size.1),
+        ]
+    }
+
+    /// The footprint along `axis` of the pixels `first..first + count`, given the values of its
+    /// first four (`first_group`): the other groups of four as needed.
+    #[inline(always)]
+    fn footprint_from(
+        &self,
+        axis: usize,
+        position: f32,
+        (first, count): (usize, usize),
+        first_group: Vec4,
+    ) -> AxisFootprint {
         // The first group always (a footprint of up to four pixels, the common case, takes no
         // loop; its values are unused when the footprint is empty), the rest as needed.
         let mut weights = [0.0; MAX_FOOTPRINT];
-        weights[..4].copy_from_slice(&group(0));
+        weights[..4].copy_from_slice(&first_group.to_array());
         for (index, values) in weights.chunks_exact_mut(4).enumerate().skip(1) {
             if 4 * index >= count {
                 break;
             }
-            values.copy_from_slice(&group(index));
+            values.copy_from_slice(
+                &self
+                    .values(axis, group_offsets(position, first, index))
+                    .to_array(),
+            );
         }
         AxisFootprint {
             first,
@@ -111,6 +142,100 @@ impl SplatFilter {
         let step = Vec4::new(e0[1], e1[1], e2[1], e3[1]);
         Vec4::select(inside, low + step * t, Vec4::ZERO)
     }
+
+    /// [`SplatFilter::footprints`] with AVX2: both axes' spans ([`footprint_span`]) in one
+    /// register's lanes, and the first four values of both axes ([`SplatFilter::values`]) in
+    /// eight lanes, their table entries read by two gathers rather than eight index extractions
+    /// and sixteen loads. The same operations lane by lane as one axis at a time, so the same
+    /// bits (SSE's `max` and `min` give their second operand for a NaN, as the scalar code's
+    /// give the number).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn footprints_with_avx2(
+        &self,
+        _: Avx2,
+        position: Vec2,
+        (width, height): (u32, u32),
+    ) -> [AxisFootprint; 2] {
+        use std::arch::x86_64::*;
+        const ENTRIES: f32 = SPLAT_TABLE as f32;
+        // SAFETY: the CPU has AVX2 (`Avx2`). The gathers read the entries (i & 255) + 256 axis
+        // of the two tables, which lie side by side: within the 2 x 256 entries.
+        unsafe {
+            // Lanes (x, y, x, y): the spans' low bounds in the first two, high in the last two.
+            let position4 = Vec4::new(position.x, position.y, position.x, position.y);
+            let radius = Vec4::new(self.radius.x, self.radius.y, self.radius.x, self.radius.y);
+            let centred = position4 - 0.5;
+            let (low, high) = (centred - radius, centred + radius);
+            let size = Vec4::new(width as f32, height as f32, 0.0, 0.0);
+            let first = _mm_min_ps(
+                _mm_max_ps(_mm_ceil_ps(low.into()), _mm_setzero_ps()),
+                size.into(),
+            );
+            let last = _mm_min_ps(_mm_floor_ps(high.into()), (size - 1.0).into());
+            let count = _mm_min_ps(
+                _mm_max_ps(
+                    _mm_sub_ps(_mm_add_ps(last, _mm_set1_ps(1.0)), first),
+                    _mm_setzero_ps(),
+                ),
+                _mm_set1_ps(MAX_FOOTPRINT as f32),
+            );
+            // Both finite integers in [0, 2^24] (see `footprint_span`).
+            let (first_index, count) = (_mm_cvttps_epi32(first), _mm_cvttps_epi32(count));
+            let [first_x, first_y, ..] = std::mem::transmute::<__m128i, [i32; 4]>(first_index);
+            let [count_x, count_y, ..] = std::mem::transmute::<__m128i, [i32; 4]>(count);
+            // Lanes 0-3 the x axis's first four pixels, 4-7 the y axis's.
+            let axis_of_lane = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
+            let by_axis =
+                |v: __m128| _mm256_permutevar8x32_ps(_mm256_castps128_ps256(v), axis_of_lane);
+            let lane_centre = _mm256_setr_ps(0.5, 1.5, 2.5, 3.5, 0.5, 1.5, 2.5, 3.5);
+            let centres = _mm256_add_ps(by_axis(first), lane_centre);
+            let offsets = _mm256_sub_ps(by_axis(position4.into()), centres);
+            let magnitude = _mm256_andnot_ps(_mm256_set1_ps(-0.0), offsets);
+            let x = _mm256_mul_ps(
+                _mm256_div_ps(magnitude, by_axis(radius.into())),
+                _mm256_set1_ps(ENTRIES),
+            );
+            // False for NaN as well.
+            let inside = _mm256_cmp_ps::<_CMP_LT_OQ>(x, _mm256_set1_ps(ENTRIES));
+            let whole = _mm256_cvttps_epi32(x);
+            let t = _mm256_sub_ps(x, _mm256_cvtepi32_ps(whole));
+            let entries = _mm256_add_epi32(
+                _mm256_and_si256(whole, _mm256_set1_epi32(u8::MAX.into())),
+                _mm256_slli_epi32::<8>(axis_of_lane),
+            );
+            // The entries' 64-bit pairs (x0 x1, x2 x3, y0 y1, y2 y3) as (x0 x1, y0 y1, x2 x3,
+            // y2 y3): a gather reads four 8-byte entries into both halves of a register, and
+            // the halves' values and steps then unpack in place.
+            let entries = _mm256_permute4x64_epi64::<0b11_01_10_00>(entries);
+            let tables = self.tables.as_ptr().cast::<i64>();
+            let gather =
+                |entries| _mm256_castsi256_ps(_mm256_i32gather_epi64::<8>(tables, entries));
+            let first_pairs = gather(_mm256_castsi256_si128(entries));
+            let second_pairs = gather(_mm256_extracti128_si256::<1>(entries));
+            // Each half: lanes 0 and 2 of the first pairs then of the second hold the four
+            // values, lanes 1 and 3 the steps.
+            let low = _mm256_shuffle_ps::<0b10_00_10_00>(first_pairs, second_pairs);
+            let step = _mm256_shuffle_ps::<0b11_01_11_01>(first_pairs, second_pairs);
+            let values = _mm256_and_ps(inside, _mm256_add_ps(low, _mm256_mul_ps(step, t)));
+            let x_group = Vec4::from(_mm256_castps256_ps128(values));
+            let y_group = Vec4::from(_mm256_extractf128_ps::<1>(values));
+            [
+                self.footprint_from(0, position.x, (first_x as usize, count_x as usize), x_group),
+                self.footprint_from(1, position.y, (first_y as usize, count_y as usize), y_group),
+            ]
+        }
+    }
+}
+
+/// The offsets from `position` of the centres j + 0.5 of the pixels j = first + 4 group + lane
+/// along one axis, each centre as the group's first index plus (lane + 0.5): exact, and so the
+/// same bits, below 2^22 pixels.
+#[inline(always)]
+fn group_offsets(position: f32, first: usize, group: usize) -> Vec4 {
+    let group_first = (first + 4 * group) as i32 as f32;
+    let centres = Vec4::splat(group_first) + Vec4::new(0.5, 1.5, 2.5, 3.5);
+    Vec4::splat(position) - centres
 }
 
 /// One axis of a splat's footprint: pixels `first..first + count` and the filter's value at
@@ -283,7 +408,7 @@ impl Film {
             .for_each(|(sums, pass_sums)| {
                 with_avx2_if_present(
                     #[inline(always)]
-                    || {
+                    |_| {
                         for (sum, pass_sum) in sums.iter_mut().zip(pass_sums) {
                             fold(sum, *pass_sum);
                             *pass_sum = [0.0; 4];
@@ -362,10 +487,11 @@ impl Film {
             );
             let rejected = with_avx2_if_present(
                 #[inline(always)]
-                || {
+                |avx2| {
                     let mut rejected = 0;
                     for sample in samples {
-                        if (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample) {
+                        if (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample, avx2)
+                        {
                             rejected += 1;
                         }
                     }
@@ -428,12 +554,13 @@ impl Film {
                 let mut rows = FilmRows::new(first_row, width, sums, counts, max_component);
                 with_avx2_if_present(
                     #[inline(always)]
-                    || {
+                    |avx2| {
                         let mut rejected = 0;
                         for run in runs() {
                             for sample in &run[band_samples(band, run)] {
                                 if rows.reached_by(film_size.1, splat, sample) {
-                                    rejected += u64::from(!rows.add(film_size, splat, sample));
+                                    let added = rows.add(film_size, splat, sample, avx2);
+                                    rejected += u64::from(!added);
                                 }
                             }
                         }
@@ -547,6 +674,7 @@ impl<'a> FilmRows<'a> {
         (width, height): (u32, u32),
         splat: Option<&SplatFilter>,
         sample: &FilmSample,
+        avx2: Option<Avx2>,
     ) -> bool {
         let w = width as usize;
         let rows = self.rows.clone();
@@ -578,14 +706,10 @@ impl<'a> FilmRows<'a> {
             Some(filter) => {
                 // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius: the
                 // filter's values along each axis once per sample, then the footprint's rows.
-                let ys = filter.footprint(1, sample.position.y, height);
+                let [xs, ys] = filter.footprints(sample.position, (width, height), avx2);
                 let first = ys.first.max(rows.start);
                 let end = (ys.first + ys.count).min(rows.end);
-                if first >= end {
-                    return true;
-                }
-                let xs = filter.footprint(0, sample.position.x, width);
-                if xs.count == 0 {
+                if first >= end || xs.count == 0 {
                     return true;
                 }
                 let wx = &xs.weights[..xs.count];
@@ -597,9 +721,13 @@ impl<'a> FilmRows<'a> {
                     // The common footprint, four pixels wide: a row is one group of four,
                     // without `add_to_row`'s loop and remainder.
                     let wx = Vec4::from_array(wx);
+                    // The pixels from the footprint's first to its last, bounds checked once.
+                    let block = &mut self.pass_sums[start..start + (wy.len() - 1) * w + 4];
                     for (row, &fy) in wy.iter().enumerate() {
-                        let pixels = &mut self.pass_sums[start + row * w..start + row * w + 4];
-                        add_to_four(pixels.try_into().unwrap(), wx, fy, radiance);
+                        // SAFETY: row < wy.len(), so the row's four pixels, from row w, end at
+                        // most at (wy.len() - 1) w + 4, the block's length.
+                        let pixels = unsafe { &mut *block.as_mut_ptr().add(row * w).cast() };
+                        add_to_four(pixels, wx, fy, radiance);
                     }
                     return true;
                 }
@@ -613,26 +741,31 @@ impl<'a> FilmRows<'a> {
     }
 }
 
-/// Runs `body` compiled for AVX2 if the CPU has it, else as compiled for the baseline (SSE2);
-/// `body` must be `#[inline(always)]` to be compiled into each version. The same operations on
-/// the same values either way (no FMA: Rust never fuses a product and a sum on its own), so the
-/// same bits; with AVX, two pixels' sums are one 256-bit add and VEX's three-operand forms save
-/// the copies. The film's own copy of `accel`'s dispatch, so that the two modules
-/// stay independent.
+/// Proof that the CPU has AVX2: only [`with_avx2_if_present`] makes one, for its AVX2 version,
+/// so that code holding one may use AVX2 intrinsics (they inline into that version).
+#[derive(Clone, Copy)]
+struct Avx2(());
+
+/// Runs `body` compiled for AVX2 if the CPU has it (given `Some(Avx2)`), else as compiled for
+/// the baseline (SSE2; given `None`); `body` must be `#[inline(always)]` to be compiled into
+/// each version. The same operations on the same values either way (no FMA: Rust never fuses a
+/// product and a sum on its own), so the same bits; with AVX, two pixels' sums are one 256-bit
+/// add and VEX's three-operand forms save the copies. The film's own copy of `accel`'s
+/// dispatch, so that the two modules stay independent.
 #[inline(always)]
-fn with_avx2_if_present<R>(body: impl FnOnce() -> R) -> R {
+fn with_avx2_if_present<R>(body: impl FnOnce(Option<Avx2>) -> R) -> R {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has the feature `with_avx2` is compiled for.
         return unsafe { with_avx2(body) };
     }
-    body()
+    body(None)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn with_avx2<R>(body: impl FnOnce() -> R) -> R {
-    body()
+fn with_avx2<R>(body: impl FnOnce(Option<Avx2>) -> R) -> R {
+    body(Some(Avx2(())))
 }
 
 /// Adds a sample's share to the pixels of one row of its footprint: to pixel i, (r, g, b, 1) w_i
@@ -913,6 +1046,68 @@ mod tests {
                         let expected = scalar(&pixel_filter, axis, offset);
                         assert_eq!(value.to_bits(), expected.to_bits(), "{kind:?} {offset}");
                     }
+                }
+            }
+        }
+    }
+
+    /// Both axes' footprints at once with AVX2 against one axis at a time with four lanes: the
+    /// same spans and the same weights to the bit, for positions inside the film, on pixel
+    /// edges, near and beyond its borders, NaN and infinite, and filters whose footprints take
+    /// more than four pixels.
+    #[test]
+    fn both_axes_with_avx2_match_one_axis_at_a_time() {
+        use crate::film::FilterKind;
+        let Some(avx2) = with_avx2_if_present(|avx2| avx2) else {
+            return;
+        };
+        let size = (37, 53);
+        let mut rng = crate::sampling::PathRng::new(13, 14, 15);
+        let mut next = || rng.next_f32();
+        let mut positions = vec![
+            Vec2::ZERO,
+            Vec2::new(37.0, 53.0),
+            Vec2::new(f32::NAN, 3.5),
+            Vec2::new(3.5, f32::INFINITY),
+            Vec2::new(-1e9, 1e9),
+            Vec2::new(12.0, 7.0),
+        ];
+        positions.extend((0..20_000).map(|i| {
+            let p = Vec2::new(next() * 45.0 - 4.0, next() * 61.0 - 4.0);
+            // Every 5th on a pixel edge along x, every 7th along y.
+            let x = if i % 5 == 0 { p.x.round() } else { p.x };
+            let y = if i % 7 == 0 { p.y.round() } else { p.y };
+            Vec2::new(x, y)
+        }));
+        let filters = [
+            PixelFilter::new(FilterKind::Gaussian { alpha: 2.0 }, Vec2::splat(2.0)),
+            PixelFilter::new(
+                FilterKind::Mitchell { b: 0.75, c: 0.125 },
+                Vec2::new(0.7, 3.3),
+            ),
+            PixelFilter::new(FilterKind::Sinc { tau: 3.0 }, Vec2::new(5.5, 1.2)),
+        ];
+        for filter in filters {
+            let filter = SplatFilter::new(&filter);
+            for &position in &positions {
+                let both = filter.footprints(position, size, Some(avx2));
+                let one_at_a_time = [
+                    filter.footprint(0, position.x, size.0),
+                    filter.footprint(1, position.y, size.1),
+                ];
+                for (both, one) in both.iter().zip(&one_at_a_time) {
+                    assert_eq!(
+                        (both.first, both.count),
+                        (one.first, one.count),
+                        "{position}"
+                    );
+                    let bits = |f: &AxisFootprint| {
+                        f.weights[..f.count]
+                            .iter()
+                            .map(|w| w.to_bits())
+                            .collect::<Vec<_>>()
+                    };
+                    assert_eq!(bits(both), bits(one), "{position}");
                 }
             }
         }
