@@ -690,10 +690,18 @@ impl<'a> FilmRows<'a> {
         if home {
             self.counts[pixel - offset] += 1;
         }
-        let largest = sample.radiance.max_element();
+        // The largest component only when clamping (without it, the compiler computed the
+        // scale max / largest for every sample and selected).
         let radiance = match self.max_component {
-            Some(max) if largest > max => sample.radiance * (max / largest),
-            _ => sample.radiance,
+            Some(max) => {
+                let largest = sample.radiance.max_element();
+                if largest > max {
+                    sample.radiance * (max / largest)
+                } else {
+                    sample.radiance
+                }
+            }
+            None => sample.radiance,
         };
         // (r, g, b, 1): times a weight w, the radiance and the weight a pixel adds.
         let radiance = radiance.extend(1.0);
