@@ -1,7 +1,5 @@
 //! What both shading stages share: the scene they read, a path's slots, its shadow ray.
 
-use std::borrow::Cow;
-
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use glam::Vec3;
@@ -72,10 +70,17 @@ impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
     /// `choice` in [0, 1) picks the side of each mix. A bump map on the way bends the surface's
     /// shading normal (the one hook for bump mapping). A material's BSDF that is the same
-    /// everywhere is lent from the table: no shading point to fill, no copy.
-    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Cow<'_, Bsdf>> {
+    /// everywhere is lent from the table: no shading point to fill, no copy; any other is
+    /// built into `built` and lent from there (a `Cow` in its place copied its 120 bytes,
+    /// most of them unset, at every vertex).
+    pub fn bsdf_at<'s>(
+        &'s self,
+        surface: &mut SurfacePoint,
+        choice: f32,
+        built: &'s mut Option<Bsdf>,
+    ) -> Option<&'s Bsdf> {
         if let Some(bsdf) = self.materials.fixed_bsdf(surface.material) {
-            return Some(Cow::Borrowed(bsdf));
+            return Some(bsdf);
         }
         let mut point = ShadingPoint {
             p: surface.position,
@@ -98,7 +103,8 @@ impl Scene<'_> {
             },
         );
         surface.shading_normal = point.n;
-        bsdf.map(Cow::Owned)
+        *built = bsdf;
+        built.as_ref()
     }
 
     /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du
