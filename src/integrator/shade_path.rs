@@ -101,7 +101,7 @@ fn shade_vertex<'a>(
     };
     let mut surface = scene
         .geometry
-        .surface_point(hit, *path.origin, *path.direction);
+        .surface_point(hit, path.origin, path.direction);
     let wo = -*path.direction;
     if hidden && surface.emitter != NO_EMITTER {
         *path.alive = false;

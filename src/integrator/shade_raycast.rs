@@ -138,7 +138,7 @@ fn shade_hit(
     };
     let mut surface = scene
         .geometry
-        .surface_point(hit, *path.origin, *path.direction);
+        .surface_point(hit, path.origin, path.direction);
     let wo = -*path.direction;
     if surface.emitter != NO_EMITTER
         && surface.geometric_normal.dot(wo) > 0.0
