@@ -440,8 +440,7 @@ impl Renderer {
                 let items = match stage.works_on {
                     StageItems::LivePaths => live,
                     StageItems::ShadowRays => {
-                        let shadows = world.resource::<ShadowBatch>();
-                        shadow_rays = shadows.t_max.iter().filter(|t| **t > 0.0).count();
+                        shadow_rays = world.resource::<ShadowBatch>().rays;
                         rays += shadow_rays as u64;
                         shadow_rays
                     }

@@ -285,6 +285,8 @@ impl ShadowColumns<'_> {
 
 /// Runs `shade` on the blocks of [`SHADE_BLOCK`] consecutive paths, in parallel; each block
 /// holds live and finished paths (see [`PathBlock::is_alive`]) and its emptied shadow slots.
+/// Counts the shadow rays made into [`ShadowBatch::rays`], each block its own while they are in
+/// the cache (rather than a serial pass over all the slots after the stage).
 pub fn shade_live_blocks(
     hits: &[Option<Hit>],
     batch: &mut PathBatch,
@@ -313,10 +315,10 @@ pub fn shade_live_blocks(
         shadows.t_max.par_chunks_mut(SHADE_BLOCK * k),
         shadows.contribution.par_chunks_mut(SHADE_BLOCK * k),
     );
-    paths
+    shadows.rays = paths
         .into_par_iter()
         .zip(shadow_slots.into_par_iter())
-        .for_each(
+        .map(
             |(
                 (
                     hits,
@@ -356,8 +358,10 @@ pub fn shade_live_blocks(
                         rays_per_path: k,
                     },
                 });
+                shadow_t_max[..m * k].iter().filter(|t| **t > 0.0).count()
             },
-        );
+        )
+        .sum();
 }
 
 /// A shadow ray to test and the radiance it carries if unoccluded.
