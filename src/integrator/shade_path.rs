@@ -25,7 +25,7 @@ pub fn shade_path_vertices(
     mut shadows: ResMut<ShadowBatch>,
 ) {
     let scene = inputs.scene();
-    shade_live_blocks(inputs.hits(), &mut batch, &mut shadows, |mut block| {
+    shade_live_blocks(&inputs, &mut batch, &mut shadows, |mut block| {
         // The block's diffuse, rough conductor and glass vertices wait in queues, in block order, and
         // are finished eight at a time; every other vertex is shaded where it stands. Each
         // path's result depends on its own slots only, so the order of the work changes no bit.

@@ -31,7 +31,7 @@ pub fn shade_raycast_hits(
     mut shadows: ResMut<ShadowBatch>,
 ) {
     let scene = inputs.scene();
-    shade_live_blocks(inputs.hits(), &mut batch, &mut shadows, |mut block| {
+    shade_live_blocks(&inputs, &mut batch, &mut shadows, |mut block| {
         shade_block(&scene, &mut block);
     });
 }

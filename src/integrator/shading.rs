@@ -8,6 +8,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::batch::{HitBatch, PathBatch, ShadowBatch};
+use super::start_pass::FirstDrawsTable;
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::bsdf::frame::Frame;
@@ -16,7 +17,7 @@ use crate::material::MaterialTable;
 use crate::material::bump::bumped_normal;
 use crate::material::texture::TextureTable;
 use crate::math::{self, offset_ray_origin};
-use crate::sampling::PathRng;
+use crate::sampling::{FirstDraws, PathDraws, PathRng};
 use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
@@ -35,6 +36,7 @@ pub struct ShadingInputs<'w> {
     settings: Res<'w, RenderSettings>,
     techniques: Res<'w, Techniques>,
     hits: Res<'w, HitBatch>,
+    first_draws: Res<'w, FirstDrawsTable>,
 }
 
 impl ShadingInputs<'_> {
@@ -52,6 +54,10 @@ impl ShadingInputs<'_> {
 
     pub fn hits(&self) -> &[Option<Hit>] {
         &self.hits.hit
+    }
+
+    fn first_draws(&self) -> &[FirstDraws] {
+        &self.first_draws.0
     }
 }
 
@@ -123,7 +129,7 @@ pub struct PathSlots<'a> {
     pub radiance: &'a mut Vec3,
     pub depth: &'a mut u32,
     pub pass_through: &'a mut u32,
-    pub rng: &'a mut PathRng,
+    pub rng: PathDraws<'a>,
     pub scatter_pdf: &'a mut f32,
     pub alive: &'a mut bool,
 }
@@ -218,6 +224,8 @@ pub struct PathColumns<'a> {
     depth: &'a mut [u32],
     pass_through: &'a mut [u32],
     rng: &'a mut [PathRng],
+    /// The padded draws computed for the paths in these slots at the chunk's start.
+    first_draws: &'a [FirstDraws],
     scatter_pdf: &'a mut [f32],
     alive: &'a mut [bool],
 }
@@ -250,7 +258,7 @@ impl PathColumns<'_> {
             radiance: &mut self.radiance[i],
             depth: &mut self.depth[i],
             pass_through: &mut self.pass_through[i],
-            rng: &mut self.rng[i],
+            rng: PathDraws::new(&mut self.rng[i], &self.first_draws[i]),
             scatter_pdf: &mut self.scatter_pdf[i],
             alive: &mut self.alive[i],
         }
@@ -286,11 +294,12 @@ impl ShadowColumns<'_> {
 /// Runs `shade` on the blocks of [`SHADE_BLOCK`] consecutive paths, in parallel; each block
 /// holds live and finished paths (see [`PathBlock::is_alive`]) and its emptied shadow slots.
 pub fn shade_live_blocks(
-    hits: &[Option<Hit>],
+    inputs: &ShadingInputs,
     batch: &mut PathBatch,
     shadows: &mut ShadowBatch,
     shade: impl Fn(PathBlock) + Sync,
 ) {
+    let (hits, first_draws) = (inputs.hits(), inputs.first_draws());
     let n = batch.len;
     shadows.clear(n);
     let k = shadows.rays_per_path;
@@ -304,6 +313,7 @@ pub fn shade_live_blocks(
         batch.depth[..n].par_chunks_mut(SHADE_BLOCK),
         batch.pass_through[..n].par_chunks_mut(SHADE_BLOCK),
         batch.rng[..n].par_chunks_mut(SHADE_BLOCK),
+        first_draws[..n].par_chunks(SHADE_BLOCK),
         batch.scatter_pdf[..n].par_chunks_mut(SHADE_BLOCK),
         batch.alive[..n].par_chunks_mut(SHADE_BLOCK),
     );
@@ -328,6 +338,7 @@ pub fn shade_live_blocks(
                     depth,
                     pass_through,
                     rng,
+                    first_draws,
                     scatter_pdf,
                     alive,
                 ),
@@ -345,6 +356,7 @@ pub fn shade_live_blocks(
                         depth: &mut depth[..m],
                         pass_through: &mut pass_through[..m],
                         rng: &mut rng[..m],
+                        first_draws: &first_draws[..m],
                         scatter_pdf: &mut scatter_pdf[..m],
                         alive: &mut alive[..m],
                     },
