@@ -65,7 +65,7 @@ fn hits_give_mitsubas_uv_and_normal() {
             };
             assert!(r < 1.0, "r {r}, φ {phi}: hit outside the rim");
             hits += 1;
-            let surface = geometry.surface_point(&hit, origin, -normal);
+            let surface = geometry.surface_point(&hit, &origin, &-normal);
             assert!((surface.position - target).length() < 1e-5);
             assert!((surface.geometric_normal - normal).length() < 1e-6);
             assert!((surface.shading_normal - normal).length() < 1e-6);

@@ -9,15 +9,20 @@ use crate::accel::Hit;
 use crate::film::FilmSample;
 use crate::sampling::PathRng;
 
-/// Declares the per-path fields once; the batch, its spare columns (the target of compaction),
-/// `resize` and the compaction's gather are all derived from this list.
+/// Declares the per-path fields once: those kept in place (`kept`) and those compaction moves to
+/// the front (`moved`); the batch, its spare columns (the target of compaction), `resize` and the
+/// compaction's gather are all derived from these lists.
 macro_rules! path_batch {
-    ($($(#[$doc:meta])* $field:ident: $ty:ty = $init:expr,)*) => {
+    (
+        kept { $($(#[$kept_doc:meta])* $kept:ident: $kept_ty:ty = $kept_init:expr,)* }
+        moved { $($(#[$doc:meta])* $field:ident: $ty:ty = $init:expr,)* }
+    ) => {
         /// One path per slot.
         #[derive(Resource, Default)]
         pub struct PathBatch {
             /// Live paths are `0..len`.
             pub len: usize,
+            $($(#[$kept_doc])* pub $kept: Vec<$kept_ty>,)*
             $($(#[$doc])* pub $field: Vec<$ty>,)*
             /// Where compaction gathers the live paths to, swapped in afterwards.
             spare: SpareColumns,
@@ -38,15 +43,20 @@ macro_rules! path_batch {
 
         impl PathBatch {
             /// Sizes the batch for a chunk of `count` paths, reusing the allocations (the spare
-            /// columns too, so that compaction allocates nothing); the chunk's first stage then
-            /// sets every field of every slot. The columns keep that length while `len` shrinks,
-            /// so that the chunks of a pass size nothing anew.
+            /// columns too, so that compaction allocates nothing), and numbers each slot's
+            /// camera path; the chunk's first stage then sets every other field of every slot.
+            /// The columns keep that length while `len` shrinks, so that the chunks of a pass
+            /// size nothing anew.
             pub fn resize(&mut self, count: usize) {
                 self.len = count;
+                $(resize(&mut self.$kept, count, $kept_init);)*
                 $(
                     resize(&mut self.$field, count, $init);
                     resize(&mut self.spare.$field, count, $init);
                 )*
+                for (slot, path) in self.camera_path.iter_mut().enumerate() {
+                    *path = slot as u32;
+                }
             }
 
             /// Partitions the first `len` slots into live and finished paths: the live ones move
@@ -58,13 +68,17 @@ macro_rules! path_batch {
                 let sources = LiveSources {
                     $($field: &self.$field[..n],)*
                 };
-                let sample = |slot: usize| FilmSample {
-                    pixel: sources.pixel[slot],
-                    position: sources.film_position[slot],
-                    radiance: sources.radiance[slot],
+                let (pixel, film_position) = (&self.pixel, &self.film_position);
+                let sample = |slot: usize| {
+                    let path = sources.camera_path[slot] as usize;
+                    FilmSample {
+                        pixel: pixel[path],
+                        position: film_position[path],
+                        radiance: sources.radiance[slot],
+                    }
                 };
                 let live = self.partition.split(
-                    sources.alive,
+                    &self.alive[..n],
                     (finished, first_finished),
                     &sample,
                     |live| Gather {
@@ -76,6 +90,8 @@ macro_rules! path_batch {
                 );
                 if live < n {
                     $(std::mem::swap(&mut self.$field, &mut self.spare.$field);)*
+                    // Every path moved to the front lives.
+                    self.alive[..live].fill(true);
                 }
                 self.len = live;
                 live
@@ -119,7 +135,7 @@ macro_rules! path_batch {
             /// to their common lengths first, so that one comparison per slot stands for every
             /// column's bounds check.
             fn gather(self, order: &[u32]) {
-                let n = self.sources.alive.len();
+                let n = self.sources.camera_path.len();
                 let live = order.len();
                 $(let $field = (&self.sources.$field[..n], &mut self.targets.$field[..live]);)*
                 for (i, &slot) in order.iter().enumerate() {
@@ -133,30 +149,41 @@ macro_rules! path_batch {
 }
 
 path_batch! {
-    pixel: u32 = 0,
-    /// Raster position of the camera sample (pixel centre plus the filter offset).
-    film_position: Vec2 = Vec2::ZERO,
-    /// The ray the path follows next (camera space between ray generation and the lens stages).
-    origin: Vec3 = Vec3::ZERO,
-    direction: Vec3 = Vec3::Z,
-    /// The last scattering vertex, where the current ray's direction was sampled (a pass through
-    /// a null surface moves `origin`, not this): the point light sampling would have sampled
-    /// from, for the MIS weight of an emitter the ray hits. Set by the first scattering.
-    vertex: Vec3 = Vec3::ZERO,
-    /// Product of f |cos| / pdf along the path.
-    throughput: Vec3 = Vec3::ONE,
-    /// Radiance gathered so far.
-    radiance: Vec3 = Vec3::ZERO,
-    /// Bounces taken.
-    depth: u32 = 0,
-    /// Surfaces passed through without scattering (null material), to bound such chains.
-    pass_through: u32 = 0,
-    rng: PathRng = PathRng::new(0, 0, 0),
-    /// Solid-angle pdf of the BSDF sample that made the current ray; 0 for the camera ray and delta
-    /// lobes (their emitter hits take no MIS weight).
-    scatter_pdf: f32 = 0.0,
-    /// Cleared by a stage when the path ends; `retire` removes it.
-    alive: bool = true,
+    kept {
+        /// The pixel of each camera path (the chunk's slots as the chunk starts, see
+        /// `camera_path`): only its film sample needs it, at the path's end, so it is not moved.
+        pixel: u32 = 0,
+        /// Raster position of each camera path's sample (pixel centre plus the filter offset),
+        /// indexed as `pixel`.
+        film_position: Vec2 = Vec2::ZERO,
+        /// Cleared by a stage when the path ends; `retire` removes it (and sets it again for
+        /// the paths it moves to the front, all live, rather than moving it).
+        alive: bool = true,
+    }
+    moved {
+        /// The path's camera path: its slot when the chunk started, where its `pixel` and
+        /// `film_position` stay.
+        camera_path: u32 = 0,
+        /// The ray the path follows next (camera space between ray generation and the lens stages).
+        origin: Vec3 = Vec3::ZERO,
+        direction: Vec3 = Vec3::Z,
+        /// The last scattering vertex, where the current ray's direction was sampled (a pass through
+        /// a null surface moves `origin`, not this): the point light sampling would have sampled
+        /// from, for the MIS weight of an emitter the ray hits. Set by the first scattering.
+        vertex: Vec3 = Vec3::ZERO,
+        /// Product of f |cos| / pdf along the path.
+        throughput: Vec3 = Vec3::ONE,
+        /// Radiance gathered so far.
+        radiance: Vec3 = Vec3::ZERO,
+        /// Bounces taken.
+        depth: u32 = 0,
+        /// Surfaces passed through without scattering (null material), to bound such chains.
+        pass_through: u32 = 0,
+        rng: PathRng = PathRng::new(0, 0, 0),
+        /// Solid-angle pdf of the BSDF sample that made the current ray; 0 for the camera ray and delta
+        /// lobes (their emitter hits take no MIS weight).
+        scatter_pdf: f32 = 0.0,
+    }
 }
 
 impl PathBatch {
@@ -355,6 +382,8 @@ pub struct ShadowBatch {
     /// Radiance the path gains when the ray is unoccluded.
     pub contribution: Vec<Vec3>,
     pub occluded: Vec<bool>,
+    /// The slots holding a ray (t_max > 0), counted by the shading stage that fills them.
+    pub rays: usize,
 }
 
 impl ShadowBatch {
@@ -375,6 +404,7 @@ impl ShadowBatch {
         resize(&mut self.occluded, count, false);
         self.t_max.clear();
         self.t_max.resize(count, 0.0);
+        self.rays = 0;
     }
 }
 
@@ -394,6 +424,16 @@ fn grow<T: Clone>(values: &mut Vec<T>, count: usize, value: T) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The pixel of the path in `slot`, kept with its camera path.
+    fn pixel_at(batch: &PathBatch, slot: usize) -> u32 {
+        batch.pixel[batch.camera_path[slot] as usize]
+    }
+
+    /// The pixels of the paths in the first `len` slots.
+    fn pixels_at(batch: &PathBatch, len: usize) -> Vec<u32> {
+        (0..len).map(|slot| pixel_at(batch, slot)).collect()
+    }
 
     /// Three bounces, each finishing fewer paths than the one before: nothing is handed over
     /// while paths live; the last retire, with no path left, hands over every bounce's samples
@@ -426,7 +466,7 @@ mod tests {
             let live = retire(&mut batch);
             // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish now.
             for slot in 0..live {
-                batch.alive[slot] = batch.pixel[slot] % 6 != 0;
+                batch.alive[slot] = !pixel_at(&batch, slot).is_multiple_of(6);
             }
             let still_live = retire(&mut batch);
             // A bounce where every path lives adds no run.
@@ -435,7 +475,7 @@ mod tests {
             let sixes: Vec<u32> = (0..n as u32).step_by(6).collect();
             assert_eq!(still_live, live - sixes.len());
             batch.alive[..still_live].fill(false);
-            let rest: Vec<u32> = batch.pixel[..still_live].to_vec();
+            let rest = pixels_at(&batch, still_live);
             assert_eq!(retire(&mut batch), 0);
             let ends = vec![odd.len(), odd.len() + sixes.len(), n];
             assert_eq!(handed, vec![([odd, sixes, rest].concat(), ends)]);
@@ -466,7 +506,7 @@ mod tests {
         };
         let live = retire(&mut batch);
         batch.alive[..live].fill(false);
-        let rest: Vec<u32> = batch.pixel[..live].to_vec();
+        let rest = pixels_at(&batch, live);
         assert_eq!(retire(&mut batch), 0);
         let threes: Vec<u32> = (0..n as u32).step_by(3).collect();
         let (threes_len, rest_len) = (threes.len(), rest.len());
@@ -501,10 +541,10 @@ mod tests {
         });
         assert_eq!(live, expected_live.len());
         assert_eq!(batch.len, live);
-        assert_eq!(batch.pixel[..live], expected_live[..]);
+        assert_eq!(pixels_at(&batch, live), expected_live);
         for i in 0..live {
-            assert_eq!(batch.depth[i], 3 * batch.pixel[i]);
-            assert_eq!(batch.radiance[i], Vec3::splat(batch.pixel[i] as f32));
+            assert_eq!(batch.depth[i], 3 * pixel_at(&batch, i));
+            assert_eq!(batch.radiance[i], Vec3::splat(pixel_at(&batch, i) as f32));
             assert!(batch.alive[i]);
         }
         assert!(finished.is_empty(), "handed over when no path is left");

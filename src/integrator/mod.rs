@@ -40,7 +40,7 @@ use accumulate::{gather_unoccluded_light, retire_finished_paths};
 use batch::{HitBatch, PathBatch, ShadowBatch};
 use shade_path::shade_path_vertices;
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
-use start_pass::{CameraSampling, ChunkRange, PassIndex, start_pass};
+use start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, start_pass};
 use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
@@ -159,6 +159,7 @@ impl Renderer {
         let settings = world.resource::<RenderSettings>().clone();
         world.init_resource::<PassIndex>();
         world.init_resource::<ChunkRange>();
+        world.init_resource::<FirstDrawsTable>();
         world.init_resource::<PathBatch>();
         world.init_resource::<HitBatch>();
         // The path tracer: one ray to a light drawn at random; the ray caster: one per light.
@@ -440,8 +441,7 @@ impl Renderer {
                 let items = match stage.works_on {
                     StageItems::LivePaths => live,
                     StageItems::ShadowRays => {
-                        let shadows = world.resource::<ShadowBatch>();
-                        shadow_rays = shadows.t_max.iter().filter(|t| **t > 0.0).count();
+                        shadow_rays = world.resource::<ShadowBatch>().rays;
                         rays += shadow_rays as u64;
                         shadow_rays
                     }

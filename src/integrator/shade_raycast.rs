@@ -31,7 +31,7 @@ pub fn shade_raycast_hits(
     mut shadows: ResMut<ShadowBatch>,
 ) {
     let scene = inputs.scene();
-    shade_live_blocks(inputs.hits(), &mut batch, &mut shadows, |mut block| {
+    shade_live_blocks(&inputs, &mut batch, &mut shadows, |mut block| {
         shade_block(&scene, &mut block);
     });
 }
@@ -138,7 +138,7 @@ fn shade_hit(
     };
     let mut surface = scene
         .geometry
-        .surface_point(hit, *path.origin, *path.direction);
+        .surface_point(hit, path.origin, path.direction);
     let wo = -*path.direction;
     if surface.emitter != NO_EMITTER
         && surface.geometric_normal.dot(wo) > 0.0
@@ -147,12 +147,13 @@ fn shade_hit(
         path.add_radiance(*path.throughput * area.radiance());
     }
     let choice = path.rng.next_f32();
-    let Some(bsdf) = scene.bsdf_at(&mut surface, choice) else {
+    let mut built = None;
+    let Some(bsdf) = scene.bsdf_at(&mut surface, choice, &mut built) else {
         path.pass_through(&surface);
         return None;
     };
     let one_sided = scene.materials.is_one_sided(surface.material);
-    if !face_forward(&mut surface, &bsdf, wo, one_sided) {
+    if !face_forward(&mut surface, bsdf, wo, one_sided) {
         *path.alive = false;
         return None;
     }
@@ -175,7 +176,7 @@ fn shade_hit(
         return None;
     }
 
-    let lobe = Lobe::new(&bsdf, surface.shading_normal, wo);
+    let lobe = Lobe::new(bsdf, surface.shading_normal, wo);
     *path.alive = false;
     Some((surface, lobe, *path.throughput))
 }

@@ -1,13 +1,12 @@
 //! What both shading stages share: the scene they read, a path's slots, its shadow ray.
 
-use std::borrow::Cow;
-
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::batch::{HitBatch, PathBatch, ShadowBatch};
+use super::start_pass::FirstDrawsTable;
 use crate::accel::Hit;
 use crate::bsdf::Bsdf;
 use crate::bsdf::frame::Frame;
@@ -16,7 +15,7 @@ use crate::material::MaterialTable;
 use crate::material::bump::bumped_normal;
 use crate::material::texture::TextureTable;
 use crate::math::{self, offset_ray_origin};
-use crate::sampling::PathRng;
+use crate::sampling::{FirstDraws, PathDraws, PathRng};
 use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
@@ -35,6 +34,7 @@ pub struct ShadingInputs<'w> {
     settings: Res<'w, RenderSettings>,
     techniques: Res<'w, Techniques>,
     hits: Res<'w, HitBatch>,
+    first_draws: Res<'w, FirstDrawsTable>,
 }
 
 impl ShadingInputs<'_> {
@@ -52,6 +52,10 @@ impl ShadingInputs<'_> {
 
     pub fn hits(&self) -> &[Option<Hit>] {
         &self.hits.hit
+    }
+
+    fn first_draws(&self) -> &[FirstDraws] {
+        &self.first_draws.0
     }
 }
 
@@ -72,10 +76,17 @@ impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
     /// `choice` in [0, 1) picks the side of each mix. A bump map on the way bends the surface's
     /// shading normal (the one hook for bump mapping). A material's BSDF that is the same
-    /// everywhere is lent from the table: no shading point to fill, no copy.
-    pub fn bsdf_at(&self, surface: &mut SurfacePoint, choice: f32) -> Option<Cow<'_, Bsdf>> {
+    /// everywhere is lent from the table: no shading point to fill, no copy; any other is
+    /// built into `built` and lent from there (a `Cow` in its place copied its 120 bytes,
+    /// most of them unset, at every vertex).
+    pub fn bsdf_at<'s>(
+        &'s self,
+        surface: &mut SurfacePoint,
+        choice: f32,
+        built: &'s mut Option<Bsdf>,
+    ) -> Option<&'s Bsdf> {
         if let Some(bsdf) = self.materials.fixed_bsdf(surface.material) {
-            return Some(Cow::Borrowed(bsdf));
+            return Some(bsdf);
         }
         let mut point = ShadingPoint {
             p: surface.position,
@@ -98,7 +109,8 @@ impl Scene<'_> {
             },
         );
         surface.shading_normal = point.n;
-        bsdf.map(Cow::Owned)
+        *built = bsdf;
+        built.as_ref()
     }
 
     /// The BSDF's local frame at the surface: around the shading normal, its x axis along dp/du
@@ -123,7 +135,7 @@ pub struct PathSlots<'a> {
     pub radiance: &'a mut Vec3,
     pub depth: &'a mut u32,
     pub pass_through: &'a mut u32,
-    pub rng: &'a mut PathRng,
+    pub rng: PathDraws<'a>,
     pub scatter_pdf: &'a mut f32,
     pub alive: &'a mut bool,
 }
@@ -218,6 +230,8 @@ pub struct PathColumns<'a> {
     depth: &'a mut [u32],
     pass_through: &'a mut [u32],
     rng: &'a mut [PathRng],
+    /// The padded draws computed for the paths in these slots at the chunk's start.
+    first_draws: &'a [FirstDraws],
     scatter_pdf: &'a mut [f32],
     alive: &'a mut [bool],
 }
@@ -250,7 +264,7 @@ impl PathColumns<'_> {
             radiance: &mut self.radiance[i],
             depth: &mut self.depth[i],
             pass_through: &mut self.pass_through[i],
-            rng: &mut self.rng[i],
+            rng: PathDraws::new(&mut self.rng[i], &self.first_draws[i]),
             scatter_pdf: &mut self.scatter_pdf[i],
             alive: &mut self.alive[i],
         }
@@ -285,12 +299,15 @@ impl ShadowColumns<'_> {
 
 /// Runs `shade` on the blocks of [`SHADE_BLOCK`] consecutive paths, in parallel; each block
 /// holds live and finished paths (see [`PathBlock::is_alive`]) and its emptied shadow slots.
+/// Counts the shadow rays made into [`ShadowBatch::rays`], each block its own while they are in
+/// the cache (rather than a serial pass over all the slots after the stage).
 pub fn shade_live_blocks(
-    hits: &[Option<Hit>],
+    inputs: &ShadingInputs,
     batch: &mut PathBatch,
     shadows: &mut ShadowBatch,
     shade: impl Fn(PathBlock) + Sync,
 ) {
+    let (hits, first_draws) = (inputs.hits(), inputs.first_draws());
     let n = batch.len;
     shadows.clear(n);
     let k = shadows.rays_per_path;
@@ -304,6 +321,7 @@ pub fn shade_live_blocks(
         batch.depth[..n].par_chunks_mut(SHADE_BLOCK),
         batch.pass_through[..n].par_chunks_mut(SHADE_BLOCK),
         batch.rng[..n].par_chunks_mut(SHADE_BLOCK),
+        first_draws[..n].par_chunks(SHADE_BLOCK),
         batch.scatter_pdf[..n].par_chunks_mut(SHADE_BLOCK),
         batch.alive[..n].par_chunks_mut(SHADE_BLOCK),
     );
@@ -313,10 +331,10 @@ pub fn shade_live_blocks(
         shadows.t_max.par_chunks_mut(SHADE_BLOCK * k),
         shadows.contribution.par_chunks_mut(SHADE_BLOCK * k),
     );
-    paths
+    shadows.rays = paths
         .into_par_iter()
         .zip(shadow_slots.into_par_iter())
-        .for_each(
+        .map(
             |(
                 (
                     hits,
@@ -328,6 +346,7 @@ pub fn shade_live_blocks(
                     depth,
                     pass_through,
                     rng,
+                    first_draws,
                     scatter_pdf,
                     alive,
                 ),
@@ -345,6 +364,7 @@ pub fn shade_live_blocks(
                         depth: &mut depth[..m],
                         pass_through: &mut pass_through[..m],
                         rng: &mut rng[..m],
+                        first_draws: &first_draws[..m],
                         scatter_pdf: &mut scatter_pdf[..m],
                         alive: &mut alive[..m],
                     },
@@ -356,8 +376,10 @@ pub fn shade_live_blocks(
                         rays_per_path: k,
                     },
                 });
+                shadow_t_max[..m * k].iter().filter(|t| **t > 0.0).count()
             },
-        );
+        )
+        .sum();
 }
 
 /// A shadow ray to test and the radiance it carries if unoccluded.

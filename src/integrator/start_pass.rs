@@ -7,7 +7,8 @@ use rayon::prelude::*;
 use super::batch::PathBatch;
 use crate::film::PixelFilter;
 use crate::sampling::{
-    DimensionSampler, Divisor, PADDED_DRAWS, PassStreams, PathRng, PixelSampler, SamplerKind,
+    DimensionSampler, Divisor, FirstDraws, PADDED_DRAWS, PassStreams, PathRng, PixelSampler,
+    SamplerKind,
 };
 use crate::settings::RenderSettings;
 
@@ -29,6 +30,13 @@ pub struct CameraSampling {
     pub filter: PixelFilter,
 }
 
+/// The chunk's paths' padded draws, by their slot at the chunk's start (see
+/// `sampling::PathDraws`): computed many paths at a time here rather than one at a time where
+/// shading makes them. Sized to the chunk; left stale for the plain samplers, whose paths make
+/// no padded draw.
+#[derive(Resource, Default)]
+pub struct FirstDrawsTable(pub Vec<FirstDraws>);
+
 /// Sampler dimensions: the film position, then the lens (drawn by the lens stage, if any).
 pub const FILM_DIMENSION: u32 = 0;
 pub const LENS_DIMENSION: u32 = 1;
@@ -39,6 +47,7 @@ pub fn start_pass(
     chunk: Res<ChunkRange>,
     sampling: Res<CameraSampling>,
     mut batch: ResMut<PathBatch>,
+    mut first_draws: ResMut<FirstDrawsTable>,
 ) {
     let width = Divisor::new(settings.width);
     let pass = pass.0;
@@ -55,6 +64,9 @@ pub fn start_pass(
     let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
+    first_draws
+        .0
+        .resize(chunk.count as usize, FirstDraws::default());
     // Blocks of paths, each a plain loop over its slices: the sampled fields path by path,
     // the constant ones filled (vector stores), rather than rayon zipping nine fields per path.
     (
@@ -67,11 +79,15 @@ pub fn start_pass(
         batch.pass_through.par_chunks_mut(BLOCK),
         batch.scatter_pdf.par_chunks_mut(BLOCK),
         batch.alive.par_chunks_mut(BLOCK),
+        first_draws.0.par_chunks_mut(BLOCK),
     )
         .into_par_iter()
         .enumerate()
         .for_each(
-            |(block, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
+            |(
+                block,
+                (pixel, film, rng, throughput, radiance, depth, through, pdf, alive, draws),
+            )| {
                 let first = first as usize + block * BLOCK;
                 let filter = &sampling.filter;
                 match pixels {
@@ -104,12 +120,15 @@ pub fn start_pass(
                     }
                     // A crop: the pixel list's entry.
                     Some(pixels) => {
-                        let paths = pixel.iter_mut().zip(film).zip(rng);
+                        let paths = pixel.iter_mut().zip(film).zip(rng.iter_mut());
                         for (&i, slots) in pixels[first..].iter().zip(paths) {
                             let column_row = (width.remainder(i), width.quotient(i));
                             start_path(filter, &sampler, streams, i, column_row, slots);
                         }
                     }
+                }
+                if padded_draws > 0 {
+                    compute_first_draws(rng, draws);
                 }
                 throughput.fill(Vec3::ONE);
                 radiance.fill(Vec3::ZERO);
@@ -137,6 +156,19 @@ fn start_path(
     *rng = streams.path(i);
 }
 
+/// The padded draws of the paths whose streams are `rng`, [`FIRST_DRAW_LANES`] at a time (the
+/// last group's missing lanes repeat its last path and are dropped).
+fn compute_first_draws(rng: &[PathRng], first: &mut [FirstDraws]) {
+    for (paths, first) in rng
+        .chunks(FIRST_DRAW_LANES)
+        .zip(first.chunks_mut(FIRST_DRAW_LANES))
+    {
+        let lanes: [PathRng; FIRST_DRAW_LANES] =
+            std::array::from_fn(|k| paths[k.min(paths.len() - 1)].clone());
+        first.copy_from_slice(&FirstDraws::lanes(&lanes)[..first.len()]);
+    }
+}
+
 /// The raster position of a camera sample: the centre of the pixel at (x, y) plus the filter's
 /// offset for the unit-square sample `u`.
 #[inline(always)]
@@ -151,3 +183,7 @@ type PathSlots<'a> = ((&'a mut u32, &'a mut Vec2), &'a mut PathRng);
 const BLOCK: usize = 1024;
 /// Pixels whose samples and streams are hashed together: eight 32-bit lanes of AVX2.
 const LANES: usize = 8;
+/// Paths whose padded draws are computed together: sixteen 32-bit lanes of AVX-512, two
+/// vectors of AVX2. Measured (callgrind, x86-64-v3, furnace 4 spp): 16 lanes 82.0 M
+/// instructions, 32 lanes 82.9 M, 8 lanes 91.1 M (more than the scalar draws' 88.6 M).
+const FIRST_DRAW_LANES: usize = 16;

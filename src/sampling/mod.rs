@@ -5,6 +5,7 @@ pub mod alias;
 pub mod bilinear;
 pub mod distribution;
 mod divisor;
+mod first_draws;
 mod hash;
 mod padded_sobol;
 pub mod pixel_sampler;
@@ -17,6 +18,7 @@ pub use alias::AliasTable;
 pub use bilinear::{Bilinear2D, BilinearSample, GridCell};
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
+pub use first_draws::{FirstDraws, PathDraws};
 pub use pixel_sampler::{DimensionSampler, PassSampler, PixelSampler, SamplerKind};
 pub use rng::{PADDED_DRAWS, PassStreams, PathRng};
 

@@ -89,6 +89,30 @@ impl PathRng {
         PassStreams::new(seed, sample_index, PADDED_DRAWS).path(pixel)
     }
 
+    /// The key of the pixel's scrambles and hashes.
+    #[inline(always)]
+    pub(super) fn pixel_key(&self) -> u64 {
+        self.pixel_key
+    }
+
+    /// The sample index, bit-reversed.
+    #[inline(always)]
+    pub(super) fn index_reversed(&self) -> u32 {
+        self.index_reversed
+    }
+
+    /// The next draw's number.
+    #[inline(always)]
+    pub(super) fn draw(&self) -> u32 {
+        self.draw
+    }
+
+    /// Counts a draw made elsewhere (`first_draws.rs`).
+    #[inline(always)]
+    pub(super) fn skip_draw(&mut self) {
+        self.take_draw();
+    }
+
     /// The next draw's number, counting it.
     #[inline(always)]
     fn take_draw(&mut self) -> u32 {

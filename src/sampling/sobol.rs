@@ -124,6 +124,22 @@ pub fn index_and_second_dimension_reversed(index_reversed: u32) -> (u32, u32) {
     ((both >> 32) as u32, both as u32)
 }
 
+/// The second dimension's point of `index`, bit-reversed, by shifts and XORs (for lanes, where
+/// the byte tables would take gathers). Its generator matrix is Pascal's triangle mod 2
+/// (`m_k = m_(k-1) ^ 2 m_(k-1)`): index bit `q` sets bit `q - j` of the reversed point for
+/// each `j` with C(q, j) odd, which by Lucas' theorem are the `j` whose bits are a subset of
+/// `q`'s, so that `q - j = q ^ j` runs over those subsets too. Bit `p` of the reversed point is
+/// the XOR of the index's bits at the supersets of `p` (as five-bit positions): the
+/// superset-sum transform over GF(2), one shift-and-XOR step per bit of the position.
+#[inline(always)]
+pub fn second_dimension_reversed(mut index: u32) -> u32 {
+    index ^= (index >> 1) & 0x5555_5555;
+    index ^= (index >> 2) & 0x3333_3333;
+    index ^= (index >> 4) & 0x0f0f_0f0f;
+    index ^= (index >> 8) & 0x00ff_00ff;
+    index ^ (index >> 16) & 0x0000_ffff
+}
+
 /// Owen scrambling of a bit-reversed 32-bit fraction: a permutation of [0, 2^32) in which bit `j`
 /// of the result depends only on bits `0..=j` of `reversed` and on `seed`.
 pub fn owen_scramble_reversed(mut reversed: u32, seed: u32) -> u32 {
@@ -169,14 +185,19 @@ mod tests {
         );
     }
 
-    /// The byte tables give the index and the matrix product of the second dimension, for
-    /// indices with every byte in use.
+    /// The byte tables, and the shift-and-XOR form, give the index and the matrix product of the
+    /// second dimension, for indices with every byte in use.
     #[test]
     fn index_and_second_dimension_tables_match_the_matrix() {
         for index in (0..5000u32).map(|i| i.wrapping_mul(0x9e37_79b9) ^ (i << 3)) {
             assert_eq!(
                 index_and_second_dimension_reversed(index.reverse_bits()),
                 (index, sobol(index, 1).reverse_bits()),
+                "{index:#x}"
+            );
+            assert_eq!(
+                second_dimension_reversed(index),
+                sobol(index, 1).reverse_bits(),
                 "{index:#x}"
             );
         }

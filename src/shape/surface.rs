@@ -24,9 +24,11 @@ pub struct SurfacePoint {
 }
 
 impl SceneGeometry {
-    pub fn surface_point(&self, hit: &Hit, origin: Vec3, direction: Vec3) -> SurfacePoint {
+    /// The surface at `hit` on the ray from `origin` along `direction` (by reference: passed by
+    /// value to this out-of-line call, each was copied to the stack first).
+    pub fn surface_point(&self, hit: &Hit, origin: &Vec3, direction: &Vec3) -> SurfacePoint {
         let prim = hit.prim as usize;
-        let position = origin + direction * hit.t;
+        let position = *origin + *direction * hit.t;
         let kind = (self.ids.decode(hit.prim)).expect("the accel reports only its own ids");
         let (geometric_normal, shading_normal, uv) = match kind {
             PrimitiveRef::Triangle(i) => self.triangle_surface(i, hit.u, hit.v),
