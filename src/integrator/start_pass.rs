@@ -128,7 +128,7 @@ pub fn start_pass(
                     }
                 }
                 if padded_draws > 0 {
-                    compute_first_draws(rng, draws);
+                    FirstDraws::compute(rng, draws);
                 }
                 throughput.fill(Vec3::ONE);
                 radiance.fill(Vec3::ZERO);
@@ -156,19 +156,6 @@ fn start_path(
     *rng = streams.path(i);
 }
 
-/// The padded draws of the paths whose streams are `rng`, [`FIRST_DRAW_LANES`] at a time (the
-/// last group's missing lanes repeat its last path and are dropped).
-fn compute_first_draws(rng: &[PathRng], first: &mut [FirstDraws]) {
-    for (paths, first) in rng
-        .chunks(FIRST_DRAW_LANES)
-        .zip(first.chunks_mut(FIRST_DRAW_LANES))
-    {
-        let lanes: [PathRng; FIRST_DRAW_LANES] =
-            std::array::from_fn(|k| paths[k.min(paths.len() - 1)].clone());
-        first.copy_from_slice(&FirstDraws::lanes(&lanes)[..first.len()]);
-    }
-}
-
 /// The raster position of a camera sample: the centre of the pixel at (x, y) plus the filter's
 /// offset for the unit-square sample `u`.
 #[inline(always)]
@@ -183,7 +170,3 @@ type PathSlots<'a> = ((&'a mut u32, &'a mut Vec2), &'a mut PathRng);
 const BLOCK: usize = 1024;
 /// Pixels whose samples and streams are hashed together: eight 32-bit lanes of AVX2.
 const LANES: usize = 8;
-/// Paths whose padded draws are computed together: sixteen 32-bit lanes of AVX-512, two
-/// vectors of AVX2. Measured (callgrind, x86-64-v3, furnace 4 spp): 16 lanes 82.0 M
-/// instructions, 32 lanes 82.9 M, 8 lanes 91.1 M (more than the scalar draws' 88.6 M).
-const FIRST_DRAW_LANES: usize = 16;

@@ -22,76 +22,165 @@ use super::sobol::{owen_scramble_reversed, second_dimension_reversed};
 /// The first vertex's draws that are 2D (the light's point, the BSDF's direction).
 const IS_2D: [bool; PADDED_DRAWS as usize] = [false, false, true, false, true];
 
-/// Where draw `d` starts in [`FirstDraws::values`]: one value a 1D draw, two a 2D one.
-const OFFSET: [usize; PADDED_DRAWS as usize] = [0, 1, 2, 4, 5];
+/// Where a 2D draw's y is in [`FirstDraws::values`], after its x: draw `d`'s value (a 2D
+/// draw's x) is at `d`, its y at `d + Y_AFTER_X`, past the five draws' (draw 2's at 5, draw
+/// 4's at 7), so that a draw's values are found without a table.
+const Y_AFTER_X: usize = 3;
 
-/// The values of all the padded draws, 1D and 2D.
-const VALUES: usize = 7;
+/// A path's values with the spare one at 6 (0): eight, one 256-bit store (the record's 40 bytes
+/// as with seven values and the padding after them).
+const ROW: usize = 8;
 
-/// One path's padded draws, with the pixel key they belong to: 40 bytes, in a table indexed by
-/// the path's slot at the chunk's start (outside the batch that compaction moves).
+/// One path's padded draws, with the key of the stream they belong to
+/// ([`PathRng::counter_key`], which tells a pass's paths apart): 40 bytes, in a table indexed
+/// by the path's slot at the chunk's start (outside the batch that compaction moves).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FirstDraws {
-    pixel_key: u64,
-    values: [f32; VALUES],
+    stream_key: u64,
+    values: [f32; ROW],
 }
+
+/// Paths whose padded draws are computed together: sixteen 32-bit lanes of AVX-512, two
+/// vectors of AVX2. Measured (callgrind, x86-64-v3, furnace 4 spp): 16 lanes 82.0 M
+/// instructions, 32 lanes 82.9 M, 8 lanes 91.1 M (more than the scalar draws' 88.6 M).
+const LANES: usize = 16;
 
 impl FirstDraws {
-    /// The padded draws of `N` paths that are at their first draw, computed lane by lane
-    /// (`N` 32-bit lanes a vector: 8 with AVX2, 16 with AVX-512).
-    #[inline]
-    pub fn lanes<const N: usize>(paths: &[PathRng; N]) -> [Self; N] {
-        let keys = paths.each_ref().map(PathRng::pixel_key);
-        let index_reversed = paths.each_ref().map(PathRng::index_reversed);
-        let mut draws = [Self::default(); N];
-        for (k, draw) in draws.iter_mut().enumerate() {
-            draw.pixel_key = keys[k];
+    /// The padded draws of `paths`, all at their first draw and of one pass (made by one
+    /// [`PassStreams`](super::PassStreams)), into `first` (as long): [`LANES`] paths at a time,
+    /// the last group's missing lanes repeating its last path and dropped.
+    pub fn compute(paths: &[PathRng], first: &mut [FirstDraws]) {
+        let mut groups = paths.chunks_exact(LANES);
+        let mut outputs = first.chunks_exact_mut(LANES);
+        for (paths, first) in (&mut groups).zip(&mut outputs) {
+            Self::lanes(paths.try_into().unwrap(), first.try_into().unwrap());
         }
-        for d in 0..PADDED_DRAWS {
-            let (x, y) = padded_sobol_lanes(keys, index_reversed, d, IS_2D[d as usize]);
-            let at = OFFSET[d as usize];
-            for (k, draw) in draws.iter_mut().enumerate() {
-                draw.values[at] = x[k];
-                if IS_2D[d as usize] {
-                    draw.values[at + 1] = y[k];
-                }
-            }
+        let (paths, first) = (groups.remainder(), outputs.into_remainder());
+        if let Some(last) = paths.last() {
+            let lanes: [PathRng; LANES] =
+                std::array::from_fn(|k| paths.get(k).unwrap_or(last).clone());
+            let mut draws = [Self::default(); LANES];
+            Self::lanes(&lanes, &mut draws);
+            first.copy_from_slice(&draws[..first.len()]);
         }
-        draws
+    }
+
+    /// The padded draws of [`LANES`] paths of one pass, computed lane by lane, each draw's
+    /// values into an array of its own (a column of the paths' rows) before they are stored
+    /// path by path.
+    #[inline(always)]
+    fn lanes(paths: &[PathRng; LANES], first: &mut [Self; LANES]) {
+        let mut keys = [0u64; LANES];
+        for (key, path) in keys.iter_mut().zip(paths) {
+            *key = path.pixel_key();
+        }
+        let index_reversed = paths[0].index_reversed();
+        debug_assert!(
+            paths
+                .iter()
+                .all(|path| path.index_reversed() == index_reversed)
+        );
+        let mut columns = [[0f32; LANES]; ROW];
+        padded_sobol_lanes::<0>(keys, index_reversed, &mut columns);
+        padded_sobol_lanes::<1>(keys, index_reversed, &mut columns);
+        padded_sobol_lanes::<2>(keys, index_reversed, &mut columns);
+        padded_sobol_lanes::<3>(keys, index_reversed, &mut columns);
+        padded_sobol_lanes::<4>(keys, index_reversed, &mut columns);
+        for (first, path) in first.iter_mut().zip(paths) {
+            first.stream_key = path.counter_key();
+        }
+        for (eighth, first) in first.chunks_exact_mut(8).enumerate() {
+            store_rows(&columns, 8 * eighth, first.try_into().unwrap());
+        }
     }
 }
 
-/// Draw `draw` of `N` paths (pixel keys and bit-reversed sample indices), the operations of
-/// `padded_sobol_2d` (`padded_sobol_1d` when not `two_d`: the y left 0) one at a time over
-/// the lanes, so that each loop is one vector operation: the second dimension by its
-/// shift-and-XOR form rather than the byte tables, which would take gathers.
+/// Stores the rows of paths `start..start + 8`, given as columns (`columns[j][k]`: value `j`
+/// of path `k`), into their records `first`: with AVX2 by an 8 x 8 transpose in registers
+/// (eight unpacks, eight shuffles and eight lane permutes, the usual sequence), one 256-bit
+/// store a path, rather than a load and a store a value.
 #[inline(always)]
-fn padded_sobol_lanes<const N: usize>(
-    keys: [u64; N],
-    index_reversed: [u32; N],
-    draw: u32,
-    two_d: bool,
-) -> ([f32; N], [f32; N]) {
-    let h = keys.map(|key| hash_extend(key, u64::from(draw)));
-    let shuffle = h.map(|h| h as u32);
-    let x_seed = h.map(|h| (h >> 32) as u32);
-    let mut index = [0u32; N];
-    for k in 0..N {
-        index[k] = owen_scramble_reversed(index_reversed[k], shuffle[k]).reverse_bits();
-    }
-    let mut x = [0f32; N];
-    for k in 0..N {
-        x[k] = unit_f32(owen_scramble_reversed(index[k], x_seed[k]).reverse_bits());
-    }
-    let mut y = [0f32; N];
-    if two_d {
-        let y_seed = h.map(|h| mix64(h) as u32);
-        for k in 0..N {
-            let y_reversed = second_dimension_reversed(index[k]);
-            y[k] = unit_f32(owen_scramble_reversed(y_reversed, y_seed[k]).reverse_bits());
+fn store_rows(columns: &[[f32; LANES]; ROW], start: usize, first: &mut [FirstDraws; 8]) {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    {
+        use std::arch::x86_64::*;
+        let column = |j: usize| &columns[j][start..start + 8];
+        // SAFETY: each load reads the eight floats of a column's slice, each store the eight
+        // of a record's row; AVX2 is enabled at compile time.
+        unsafe {
+            let c: [__m256; ROW] = std::array::from_fn(|j| _mm256_loadu_ps(column(j).as_ptr()));
+            let lo = |a, b| _mm256_unpacklo_ps(a, b);
+            let hi = |a, b| _mm256_unpackhi_ps(a, b);
+            let t = [
+                lo(c[0], c[1]),
+                hi(c[0], c[1]),
+                lo(c[2], c[3]),
+                hi(c[2], c[3]),
+                lo(c[4], c[5]),
+                hi(c[4], c[5]),
+                lo(c[6], c[7]),
+                hi(c[6], c[7]),
+            ];
+            let u = [
+                _mm256_shuffle_ps::<0x44>(t[0], t[2]),
+                _mm256_shuffle_ps::<0xee>(t[0], t[2]),
+                _mm256_shuffle_ps::<0x44>(t[1], t[3]),
+                _mm256_shuffle_ps::<0xee>(t[1], t[3]),
+                _mm256_shuffle_ps::<0x44>(t[4], t[6]),
+                _mm256_shuffle_ps::<0xee>(t[4], t[6]),
+                _mm256_shuffle_ps::<0x44>(t[5], t[7]),
+                _mm256_shuffle_ps::<0xee>(t[5], t[7]),
+            ];
+            for k in 0..4 {
+                let low = _mm256_permute2f128_ps::<0x20>(u[k], u[k + 4]);
+                let high = _mm256_permute2f128_ps::<0x31>(u[k], u[k + 4]);
+                _mm256_storeu_ps(first[k].values.as_mut_ptr(), low);
+                _mm256_storeu_ps(first[k + 4].values.as_mut_ptr(), high);
+            }
         }
     }
-    (x, y)
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    for (k, first) in first.iter_mut().enumerate() {
+        first.values = std::array::from_fn(|j| columns[j][start + k]);
+    }
+}
+
+/// Draw `DRAW` of [`LANES`] paths (pixel keys, and the bit-reversed sample index they
+/// share), the operations of `padded_sobol_2d` (`padded_sobol_1d` for a 1D draw) one at a time
+/// over the lanes, so that each loop is one vector operation: the second dimension by its
+/// shift-and-XOR form rather than the byte tables, which would take gathers. The values go to
+/// `columns[DRAW]` (and a 2D draw's y to `columns[DRAW + Y_AFTER_X]`).
+#[inline(always)]
+fn padded_sobol_lanes<const DRAW: u32>(
+    keys: [u64; LANES],
+    index_reversed: u32,
+    columns: &mut [[f32; LANES]; ROW],
+) {
+    let at = DRAW as usize;
+    // Loops rather than `map`s, which LLVM left out of line (a call per hash of all lanes).
+    let (mut shuffle, mut x_seed, mut h) = ([0u32; LANES], [0u32; LANES], [0u64; LANES]);
+    for k in 0..LANES {
+        h[k] = hash_extend(keys[k], u64::from(DRAW));
+        (shuffle[k], x_seed[k]) = (h[k] as u32, (h[k] >> 32) as u32);
+    }
+    let mut index = [0u32; LANES];
+    for k in 0..LANES {
+        index[k] = owen_scramble_reversed(index_reversed, shuffle[k]).reverse_bits();
+    }
+    for k in 0..LANES {
+        columns[at][k] = unit_f32(owen_scramble_reversed(index[k], x_seed[k]).reverse_bits());
+    }
+    if IS_2D[DRAW as usize] {
+        let mut y_seed = [0u32; LANES];
+        for k in 0..LANES {
+            y_seed[k] = mix64(h[k]) as u32;
+        }
+        for k in 0..LANES {
+            let y_reversed = second_dimension_reversed(index[k]);
+            columns[at + Y_AFTER_X][k] =
+                unit_f32(owen_scramble_reversed(y_reversed, y_seed[k]).reverse_bits());
+        }
+    }
 }
 
 /// A path's stream in a shading stage: its [`PathRng`], with the padded draws computed at the
@@ -114,8 +203,8 @@ impl<'a> PathDraws<'a> {
         let draw = self.rng.draw() as usize;
         (draw < PADDED_DRAWS as usize
             && (!two_d || IS_2D[draw])
-            && self.first.pixel_key == self.rng.pixel_key())
-        .then(|| OFFSET[draw])
+            && self.first.stream_key == self.rng.counter_key())
+        .then_some(draw)
     }
 
     /// [`PathRng::next_f32`].
@@ -136,7 +225,7 @@ impl<'a> PathDraws<'a> {
         match self.computed(true) {
             Some(at) => {
                 self.rng.skip_draw();
-                Vec2::new(self.first.values[at], self.first.values[at + 1])
+                Vec2::new(self.first.values[at], self.first.values[at + Y_AFTER_X])
             }
             None => self.rng.next_2d(),
         }
@@ -156,32 +245,31 @@ mod tests {
         std::array::from_fn(|k| streams.path(mix64(round ^ (k as u64) << 40) as u32))
     }
 
-    /// The lanes' draws are the scalar ones bit for bit, 1D and 2D, over many random keys and
-    /// sample indices, at 8 and 16 lanes.
-    fn lanes_match_scalar<const N: usize>() {
+    /// The computed draws are the scalar ones bit for bit, 1D and 2D, over many random keys
+    /// and sample indices, for whole groups of lanes and a last partial one.
+    #[test]
+    fn computed_draws_match_the_scalar_draws() {
         for round in 0..2_000 {
-            let paths = random_paths::<N>(round);
-            for (path, first) in paths.iter().zip(FirstDraws::lanes(&paths)) {
-                assert_eq!(first.pixel_key, path.pixel_key());
+            let paths = random_paths::<40>(round);
+            let count = [40, 32, 16, 5, 1][round as usize % 5];
+            let mut firsts = vec![FirstDraws::default(); count];
+            FirstDraws::compute(&paths[..count], &mut firsts);
+            for (path, first) in paths.iter().zip(&firsts) {
+                assert_eq!(first.stream_key, path.counter_key());
                 let (key, index) = (path.pixel_key(), path.index_reversed());
                 for d in 0..PADDED_DRAWS {
-                    let at = OFFSET[d as usize];
+                    let at = d as usize;
                     let x = padded_sobol_1d(key, index, d);
                     assert_eq!(first.values[at].to_bits(), x.to_bits(), "{round} {d}");
                     if IS_2D[d as usize] {
                         let u = padded_sobol_2d(key, index, d);
                         assert_eq!(u.x.to_bits(), x.to_bits());
-                        assert_eq!(first.values[at + 1].to_bits(), u.y.to_bits(), "{d}");
+                        let y = first.values[at + Y_AFTER_X];
+                        assert_eq!(y.to_bits(), u.y.to_bits(), "{d}");
                     }
                 }
             }
         }
-    }
-
-    #[test]
-    fn lanes_match_the_scalar_draws() {
-        lanes_match_scalar::<8>();
-        lanes_match_scalar::<16>();
     }
 
     /// Handing out the computed draws gives a path the stream it has without them, in any
@@ -190,7 +278,8 @@ mod tests {
     fn handed_out_draws_are_the_streams_own() {
         for round in 0..500 {
             let paths = random_paths::<8>(round);
-            let firsts = FirstDraws::lanes(&paths);
+            let mut firsts = [FirstDraws::default(); 8];
+            FirstDraws::compute(&paths, &mut firsts);
             for (k, path) in paths.iter().enumerate() {
                 for first in [&firsts[k], &firsts[(k + 1) % 8]] {
                     let (mut plain, mut handed) = (path.clone(), path.clone());

@@ -1,7 +1,7 @@
 //! Integer hashing used to derive seeds and patterns from (seed, pixel, sample, dimension).
 
 /// The golden-ratio increment of SplitMix64 (Steele, Lea & Flood 2014).
-const GOLDEN_GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
+pub const GOLDEN_GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
 
 /// SplitMix64's output function: a bijective 64-bit mix with full avalanche.
 pub fn mix64(mut z: u64) -> u64 {

@@ -3,7 +3,7 @@
 
 use glam::Vec2;
 
-use super::hash::{hash_extend, hash_words, unit_f32};
+use super::hash::{GOLDEN_GAMMA, hash_extend, hash_words, mix64, unit_f32};
 use super::padded_sobol::{padded_sobol_1d, padded_sobol_2d};
 
 /// The draws of a path (calls of `next_f32` or `next_2d`, each one draw) that come from padded
@@ -23,8 +23,9 @@ pub const PADDED_DRAWS: u32 = 5;
 /// draw, with both words of a 2D draw from one hash.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PathRng {
-    /// `hash(seed, pixel)`: the pixel's scramble seeds and the hashed draws' key.
-    pixel_key: u64,
+    /// The hashed draws' key with the pass's part of their counter added (see
+    /// [`PathRng::hashed`]): `hash(seed, pixel)`, the pixel key, plus [`counter_offset`].
+    counter_key: u64,
     /// The sample index, bit-reversed (as the padded samples' index shuffle takes it).
     index_reversed: u32,
     /// Draws made so far (offset by the padded draws skipped, see [`PassStreams::new`]).
@@ -63,7 +64,8 @@ impl PassStreams {
     #[inline]
     pub fn path(self, pixel: u32) -> PathRng {
         PathRng {
-            pixel_key: hash_extend(self.prefix, u64::from(pixel)),
+            counter_key: hash_extend(self.prefix, u64::from(pixel))
+                .wrapping_add(counter_offset(self.index_reversed)),
             index_reversed: self.index_reversed,
             draw: self.first_draw,
         }
@@ -74,13 +76,26 @@ impl PassStreams {
     /// registers.
     #[inline]
     pub fn paths<const N: usize>(self, pixels: [u32; N]) -> [PathRng; N] {
+        let offset = counter_offset(self.index_reversed);
         let keys = pixels.map(|pixel| hash_extend(self.prefix, u64::from(pixel)));
         keys.map(|pixel_key| PathRng {
-            pixel_key,
+            counter_key: pixel_key.wrapping_add(offset),
             index_reversed: self.index_reversed,
             draw: self.first_draw,
         })
     }
+}
+
+/// What a pass adds to its paths' pixel keys to make their [`PathRng::counter_key`]s: the
+/// hashed draws' counter is `(sample index reversed) << 32 | draw`, whose two halves do not
+/// overlap, so that it is their sum and its product with [`COUNTER_GAMMA`] (mod 2^64) the sum
+/// of the halves' products. The pass's half, and the increment that [`hash_extend`] adds, are
+/// added once a path rather than once a draw.
+#[inline(always)]
+fn counter_offset(index_reversed: u32) -> u64 {
+    (u64::from(index_reversed) << 32)
+        .wrapping_mul(COUNTER_GAMMA)
+        .wrapping_add(GOLDEN_GAMMA)
 }
 
 impl PathRng {
@@ -89,10 +104,17 @@ impl PathRng {
         PassStreams::new(seed, sample_index, PADDED_DRAWS).path(pixel)
     }
 
-    /// The key of the pixel's scrambles and hashes.
+    /// The key of the pixel's scrambles (for the padded draws).
     #[inline(always)]
     pub(super) fn pixel_key(&self) -> u64 {
-        self.pixel_key
+        self.counter_key
+            .wrapping_sub(counter_offset(self.index_reversed))
+    }
+
+    /// The key that tells the paths of a pass apart (a bijection of the pixel key).
+    #[inline(always)]
+    pub(super) fn counter_key(&self) -> u64 {
+        self.counter_key
     }
 
     /// The sample index, bit-reversed.
@@ -121,11 +143,15 @@ impl PathRng {
         draw
     }
 
-    /// 64 hashed bits for a draw past the padded ones.
+    /// 64 hashed bits for a draw past the padded ones: `hash_extend(pixel key, ((sample index
+    /// reversed) << 32 | draw) * COUNTER_GAMMA)`, with all but the draw's part of the sum in
+    /// the counter key.
     #[inline(always)]
     fn hashed(&self, draw: u32) -> u64 {
-        let counter = u64::from(self.index_reversed) << 32 | u64::from(draw);
-        hash_extend(self.pixel_key, counter.wrapping_mul(COUNTER_GAMMA))
+        mix64(
+            self.counter_key
+                .wrapping_add(u64::from(draw).wrapping_mul(COUNTER_GAMMA)),
+        )
     }
 
     /// A uniform float in [0, 1): 24 random bits times 2^-24, so 1 is never returned.
@@ -133,7 +159,7 @@ impl PathRng {
     pub fn next_f32(&mut self) -> f32 {
         let draw = self.take_draw();
         if draw < PADDED_DRAWS {
-            padded_sobol_1d(self.pixel_key, self.index_reversed, draw)
+            padded_sobol_1d(self.pixel_key(), self.index_reversed, draw)
         } else {
             unit_f32((self.hashed(draw) >> 32) as u32)
         }
@@ -145,7 +171,7 @@ impl PathRng {
     pub fn next_2d(&mut self) -> Vec2 {
         let draw = self.take_draw();
         if draw < PADDED_DRAWS {
-            padded_sobol_2d(self.pixel_key, self.index_reversed, draw)
+            padded_sobol_2d(self.pixel_key(), self.index_reversed, draw)
         } else {
             let h = self.hashed(draw);
             Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32))
@@ -209,6 +235,34 @@ mod tests {
         );
         let (grid, line) = cells(0);
         assert!(grid.iter().chain(&line).any(|&c| c != 1));
+    }
+
+    /// The hashed draws are the hash of the counter (sample index reversed, draw) keyed by the
+    /// pixel key, bit for bit, for sample indices with the top bit set (a counter offset that
+    /// wraps) and draws near 2^32; the padded draws are keyed by the pixel key.
+    #[test]
+    fn hashed_draws_hash_the_counter_keyed_by_the_pixel() {
+        for (seed, pixel, sample_index) in [(0, 0, 0), (7, 3, 1), (u64::MAX, 9_999, u32::MAX)] {
+            let pixel_key = hash_extend(hash_words(&[seed, PATH_DOMAIN]), u64::from(pixel));
+            let index_reversed = sample_index.reverse_bits();
+            let mut rng = PathRng::new(seed, pixel, sample_index);
+            assert_eq!(rng.pixel_key(), pixel_key);
+            for draw in (0..40).chain(u32::MAX - 3..=u32::MAX) {
+                rng.draw = draw;
+                let counter = u64::from(index_reversed) << 32 | u64::from(draw);
+                let expected = hash_extend(pixel_key, counter.wrapping_mul(COUNTER_GAMMA));
+                assert_eq!(
+                    rng.hashed(draw),
+                    expected,
+                    "{seed} {pixel} {sample_index} {draw}"
+                );
+                if draw >= PADDED_DRAWS {
+                    let u = rng.next_2d();
+                    assert_eq!(u.x, unit_f32(expected as u32));
+                    assert_eq!(u.y, unit_f32((expected >> 32) as u32));
+                }
+            }
+        }
     }
 
     #[test]
