@@ -115,13 +115,7 @@ fn stages(c: &mut Criterion) {
         b.iter_custom(|iters| s.time(iters, &[trace], &[shade]));
     });
     s.prepare(&[trace, shade]);
-    let shadow_rays = s
-        .world
-        .resource::<ShadowBatch>()
-        .t_max
-        .iter()
-        .filter(|t| **t > 0.0)
-        .count();
+    let shadow_rays = s.world.resource::<ShadowBatch>().rays;
     group.throughput(Throughput::Elements(shadow_rays as u64));
     group.bench_function("shadow_rays", |b| {
         b.iter_custom(|iters| s.time(iters, &[trace, shade], &[shadow]));

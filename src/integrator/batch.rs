@@ -354,7 +354,8 @@ trait GatherLive: Send + Sized {
     fn gather(self, order: &[u32]);
 }
 
-/// Closest hits of the path rays, slot for slot.
+/// Closest hits of the path rays, slot for slot: the first `PathBatch::len` slots are this
+/// bounce's.
 #[derive(Resource, Default)]
 pub struct HitBatch {
     pub hit: Vec<Option<Hit>>,
@@ -362,11 +363,24 @@ pub struct HitBatch {
     pub t_max: Vec<f32>,
 }
 
+impl HitBatch {
+    /// Lengthens the columns to at least `paths` slots, never shortening them: the trace writes
+    /// the first `paths` of each, and a chunk's first bounce, longer than the last one before
+    /// it, then refills nothing.
+    pub fn grow(&mut self, paths: usize) {
+        grow(&mut self.hit, paths, None);
+        grow(&mut self.t_max, paths, 0.0);
+    }
+}
+
 /// Shadow rays: `rays_per_path` slots for each path, path `i` owning
-/// `i * rays_per_path .. (i + 1) * rays_per_path`. A slot with zero contribution is empty.
+/// `i * rays_per_path .. (i + 1) * rays_per_path`. A slot with a `t_max` of 0 is empty.
 #[derive(Resource, Default)]
 pub struct ShadowBatch {
     pub rays_per_path: usize,
+    /// The slots of this bounce's paths, at the front of each column; the columns only grow,
+    /// so past these they hold an earlier bounce's rays.
+    pub slots: usize,
     /// Slot `k` of every path holds the ray to light `k` (the ray caster's layout): the rays
     /// of neighbouring paths in one slot then run side by side to the same light, and are
     /// traced as packets. The path tracer's slot holds a ray to a light drawn at random.
@@ -395,15 +409,18 @@ impl ShadowBatch {
         }
     }
 
-    /// Sizes the batch for `paths` paths and empties every slot.
-    pub fn clear(&mut self, paths: usize) {
+    /// Sizes the batch for `paths` paths, lengthening the columns where they are shorter and
+    /// never shortening them (a chunk's first bounce, longer than the last one before it, then
+    /// refills nothing). The slots keep what they held: the shading stage empties each block's
+    /// (a `t_max` of 0) before filling them, and the trace writes every slot's `occluded`.
+    pub fn resize(&mut self, paths: usize) {
         let count = paths * self.rays_per_path;
-        resize(&mut self.origin, count, Vec3::ZERO);
-        resize(&mut self.direction, count, Vec3::Z);
-        resize(&mut self.contribution, count, Vec3::ZERO);
-        resize(&mut self.occluded, count, false);
-        self.t_max.clear();
-        self.t_max.resize(count, 0.0);
+        grow(&mut self.origin, count, Vec3::ZERO);
+        grow(&mut self.direction, count, Vec3::Z);
+        grow(&mut self.contribution, count, Vec3::ZERO);
+        grow(&mut self.occluded, count, false);
+        grow(&mut self.t_max, count, 0.0);
+        self.slots = count;
         self.rays = 0;
     }
 }

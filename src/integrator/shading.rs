@@ -309,8 +309,9 @@ pub fn shade_live_blocks(
 ) {
     let (hits, first_draws) = (inputs.hits(), inputs.first_draws());
     let n = batch.len;
-    shadows.clear(n);
+    shadows.resize(n);
     let k = shadows.rays_per_path;
+    let slots = shadows.slots;
     let paths = (
         hits[..n].par_chunks(SHADE_BLOCK),
         batch.origin[..n].par_chunks_mut(SHADE_BLOCK),
@@ -326,10 +327,10 @@ pub fn shade_live_blocks(
         batch.alive[..n].par_chunks_mut(SHADE_BLOCK),
     );
     let shadow_slots = (
-        shadows.origin.par_chunks_mut(SHADE_BLOCK * k),
-        shadows.direction.par_chunks_mut(SHADE_BLOCK * k),
-        shadows.t_max.par_chunks_mut(SHADE_BLOCK * k),
-        shadows.contribution.par_chunks_mut(SHADE_BLOCK * k),
+        shadows.origin[..slots].par_chunks_mut(SHADE_BLOCK * k),
+        shadows.direction[..slots].par_chunks_mut(SHADE_BLOCK * k),
+        shadows.t_max[..slots].par_chunks_mut(SHADE_BLOCK * k),
+        shadows.contribution[..slots].par_chunks_mut(SHADE_BLOCK * k),
     );
     shadows.rays = paths
         .into_par_iter()
@@ -353,6 +354,9 @@ pub fn shade_live_blocks(
                 (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
             )| {
                 let m = hits.len();
+                // Emptied here, by the block's task, rather than all at once before the stage:
+                // the slots still hold the last bounce's rays (see `ShadowBatch::resize`).
+                shadow_t_max[..m * k].fill(0.0);
                 shade(PathBlock {
                     hits,
                     paths: PathColumns {

@@ -14,8 +14,7 @@ pub fn trace_closest_hits(
 ) {
     let n = batch.len;
     let hits = &mut *hits;
-    hits.hit.resize(n, None);
-    hits.t_max.resize(n, 0.0);
+    hits.grow(n);
     // A path that ended (a fisheye sample outside the image circle) gets an empty extent.
     (&batch.alive[..n], &mut hits.t_max[..n])
         .into_par_iter()
@@ -34,11 +33,13 @@ pub fn trace_shadow_rays(geometry: Res<SceneGeometry>, mut shadows: ResMut<Shado
     let shadows = &mut *shadows;
     let accel = &geometry.accel;
     let pass_through = geometry.pass_through.as_ref();
-    let (origins, dirs, t_maxs) = (&shadows.origin, &shadows.direction, &shadows.t_max);
+    let slots = shadows.slots;
+    let (origins, dirs) = (&shadows.origin[..slots], &shadows.direction[..slots]);
+    let t_maxs = &shadows.t_max[..slots];
     // Empty slots have t_max 0 and are skipped; invisible surfaces let the light through.
     // With a slot per light, rays `rays_per_path` apart go to the same light from
     // neighbouring paths.
     let stride = shadows.slot_per_light.then_some(shadows.rays_per_path);
-    let occluded = &mut shadows.occluded;
+    let occluded = &mut shadows.occluded[..slots];
     accel.any_hits_strided(origins, dirs, 0.0, t_maxs, stride, pass_through, occluded);
 }
