@@ -135,8 +135,16 @@ pub(super) struct NextRays {
 }
 
 impl NextRays {
+    /// The lanes whose throughput is finite and not zero: [`PathSlots::continue_from`]'s test,
+    /// eight at once, for [`NextRays::continue_path`].
+    #[inline(always)]
+    pub(super) fn carrying(&self) -> M8 {
+        self.throughput.is_finite() & !self.throughput.is_zero()
+    }
+
     /// Lane `lane`'s next ray into `path` from the vertex at `vertex` (`PathSlots::scatter`,
-    /// with `scatter_pdf` for MIS), or the path's end; whether the path goes on.
+    /// with `scatter_pdf` for MIS), or the path's end; whether the path was scattered.
+    /// `carrying`: [`NextRays::carrying`].
     #[inline(always)]
     pub(super) fn continue_path(
         &self,
@@ -144,17 +152,19 @@ impl NextRays {
         path: &mut PathSlots,
         vertex: Vec3,
         scatter_pdf: f32,
+        carrying: M8,
     ) -> bool {
         if !self.scattered.lane(lane) {
             *path.alive = false;
             return false;
         }
         *path.scatter_pdf = scatter_pdf;
-        path.continue_from(
+        path.continue_carrying(
             vertex,
             self.origin.get(lane),
             self.direction.get(lane),
             self.throughput.get(lane),
+            carrying.lane(lane),
         );
         true
     }
@@ -168,6 +178,9 @@ pub struct DiffuseQueue<'a> {
     slots: [usize; LANES],
     inputs: Inputs,
     lamps: QueuedLamps<'a>,
+    /// The lamp whose fields fill every lane's lamp fields, left by an earlier group's
+    /// [`DiffuseQueue::fill_lamps`] (a group of the same lamp then writes none of them).
+    filled_lamp: Option<&'a EmitterParallelogram>,
     /// Where the kernel writes, kept from group to group (the kernel sets every field it
     /// reads back; clearing them for each group cost a tenth of the write-back).
     outputs: Outputs,
@@ -187,6 +200,18 @@ enum QueuedLamps<'a> {
 }
 
 impl Inputs {
+    /// Lane `lane`'s light sample, `light` (`has_light` false: none, `light` harmless values).
+    #[inline(always)]
+    fn set_light(&mut self, lane: usize, has_light: bool, light: &LightPoint) {
+        self.has_light[lane] = has_light;
+        self.lamp[lane] = false;
+        self.light_wi.set(lane, light.wi);
+        self.light_distance.0[lane] = light.distance;
+        self.light_radiance.set(lane, light.radiance);
+        self.light_pdf.0[lane] = light.pdf;
+        self.light_delta[lane] = light.delta;
+    }
+
     /// Lane `lane`'s lamp fields.
     #[inline(always)]
     fn set_lamp(&mut self, lane: usize, lamp: &EmitterParallelogram) {
@@ -215,9 +240,9 @@ impl<'a> DiffuseQueue<'a> {
         self.slots[lane] = slot;
         inputs.surface.set(lane, &vertex.surface);
         inputs.reflectance.set(lane, vertex.reflectance);
-        let (has_light, light, lamp) = match vertex.light {
-            VertexLight::Point(light) => (true, light, false),
-            VertexLight::None => (false, NO_LIGHT, false),
+        match vertex.light {
+            VertexLight::Point(light) => inputs.set_light(lane, true, &light),
+            VertexLight::None => inputs.set_light(lane, false, &NO_LIGHT),
             VertexLight::Lamp(lamp) => {
                 match self.lamps {
                     QueuedLamps::None => self.lamps = QueuedLamps::Shared(lamp.lamp),
@@ -225,6 +250,7 @@ impl<'a> DiffuseQueue<'a> {
                     QueuedLamps::Shared(shared) => {
                         // A second lamp: the lamp lanes queued so far get the first one's
                         // fields now.
+                        self.filled_lamp = None;
                         for earlier in 0..lane {
                             if inputs.lamp[earlier] {
                                 inputs.set_lamp(earlier, shared);
@@ -233,25 +259,21 @@ impl<'a> DiffuseQueue<'a> {
                         inputs.set_lamp(lane, lamp.lamp);
                         self.lamps = QueuedLamps::Mixed;
                     }
-                    QueuedLamps::Mixed => inputs.set_lamp(lane, lamp.lamp),
+                    QueuedLamps::Mixed => {
+                        self.filled_lamp = None;
+                        inputs.set_lamp(lane, lamp.lamp);
+                    }
                 }
                 inputs.lamp_u[0].0[lane] = lamp.u.x;
                 inputs.lamp_u[1].0[lane] = lamp.u.y;
-                let light = LightPoint {
-                    radiance: lamp.radiance,
-                    pdf: lamp.probability,
-                    ..NO_LIGHT
-                };
-                (false, light, true)
+                // No direction or distance: `sample_lamps` writes a lamp lane's.
+                inputs.has_light[lane] = false;
+                inputs.lamp[lane] = true;
+                inputs.light_radiance.set(lane, lamp.radiance);
+                inputs.light_pdf.0[lane] = lamp.probability;
+                inputs.light_delta[lane] = false;
             }
-        };
-        inputs.has_light[lane] = has_light;
-        inputs.lamp[lane] = lamp;
-        inputs.light_wi.set(lane, light.wi);
-        inputs.light_distance.0[lane] = light.distance;
-        inputs.light_radiance.set(lane, light.radiance);
-        inputs.light_pdf.0[lane] = light.pdf;
-        inputs.light_delta[lane] = light.delta;
+        }
         inputs.u[0].0[lane] = vertex.u.x;
         inputs.u[1].0[lane] = vertex.u.y;
         self.len += 1;
@@ -285,9 +307,11 @@ impl<'a> DiffuseQueue<'a> {
         self.fill_lamps();
         let out = &mut self.outputs;
         run_kernels(&mut self.inputs, out, bsdf_lanes);
+        let carrying = out.next.carrying();
+        let mut shadows = block.shadows.cut_to_one_length();
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             if out.has_shadow.lane(lane) {
-                block.shadows.emit_first(
+                shadows.emit_first(
                     slot,
                     ShadowRay {
                         origin: out.shadow_origin.get(lane),
@@ -301,7 +325,7 @@ impl<'a> DiffuseQueue<'a> {
             let vertex = self.inputs.surface.position.get(lane);
             if out
                 .next
-                .continue_path(lane, &mut path, vertex, out.pdf.0[lane])
+                .continue_path(lane, &mut path, vertex, out.pdf.0[lane], carrying)
             {
                 russian_roulette(&mut path, rr_depth);
             }
@@ -310,15 +334,20 @@ impl<'a> DiffuseQueue<'a> {
     }
 
     /// Writes the shared lamp's fields into every lane (those of lanes without a lamp are not
-    /// read) and starts the next group's record of lamps.
+    /// read), unless they hold them already, and starts the next group's record of lamps.
     fn fill_lamps(&mut self) {
-        if let QueuedLamps::Shared(lamp) = self.lamps {
+        if let QueuedLamps::Shared(lamp) = self.lamps
+            && !self
+                .filled_lamp
+                .is_some_and(|filled| std::ptr::eq(filled, lamp))
+        {
             let inputs = &mut self.inputs;
             inputs.lamp_corner = V8::splat(lamp.corner);
             inputs.lamp_edge1 = V8::splat(lamp.edge1);
             inputs.lamp_edge2 = V8::splat(lamp.edge2);
             inputs.lamp_normal = V8::splat(lamp.normal);
             inputs.lamp_area = F8::splat(lamp.area);
+            self.filled_lamp = Some(lamp);
         }
         self.lamps = QueuedLamps::None;
     }
@@ -662,6 +691,55 @@ pub(super) mod tests {
             shadows > 1000 && lamp_shadows > 300 && scattered > 1000 && unsound > 100,
             "{shadows} {lamp_shadows} {scattered} {unsound}"
         );
+    }
+
+    /// A queue kept from group to group (as a block's is) finishes each group as a new queue
+    /// does, whatever lamps the groups before it had: the lamp fields that a group of one lamp
+    /// leaves in every lane (and a later group of the same lamp reuses) are written again
+    /// after a group of two lamps has overwritten some lanes' with the second lamp's.
+    #[test]
+    fn a_kept_queue_finishes_groups_as_a_new_one_does() {
+        let mut rng = PathRng::new(10, 0, 0);
+        let lamps = random_lamps(&mut rng);
+        // Each group's lamp per lane: one lamp, two, the first alone again, then the second;
+        // sixteen times.
+        let groups = [[0; LANES], [0, 1, 0, 1, 0, 1, 0, 1], [0; LANES], [1; LANES]];
+        let mut kept = DiffuseQueue::default();
+        let mut lamp_shadows = 0;
+        for group in groups.into_iter().cycle().take(16 * groups.len()) {
+            let vertices: Vec<DiffuseVertex> = (group.iter())
+                .map(|&lamp| DiffuseVertex {
+                    light: VertexLight::Lamp(LampPoint {
+                        lamp: &lamps[lamp],
+                        radiance: Vec3::ONE,
+                        probability: 0.5,
+                        u: rng.next_2d(),
+                    }),
+                    ..random_vertex(&mut rng, 3, &lamps)
+                })
+                .collect();
+            let mut new = DiffuseQueue::default();
+            for (lane, vertex) in vertices.iter().enumerate() {
+                kept.push(lane, *vertex);
+                new.push(lane, *vertex);
+            }
+            let [from_kept, _] = kept.kernel_outputs(finish_lanes);
+            let [from_new, _] = new.kernel_outputs(finish_lanes);
+            kept.len = 0;
+            assert_eq!(from_kept.has_shadow, from_new.has_shadow);
+            for lane in (0..LANES).filter(|&lane| from_new.has_shadow.lane(lane)) {
+                let out = [&from_kept, &from_new].map(|out| {
+                    (
+                        bits(out.shadow_direction.get(lane)),
+                        bits(out.contribution.get(lane)),
+                        out.shadow_t_max.0[lane].to_bits(),
+                    )
+                });
+                assert_eq!(out[0], out[1], "lane {lane}");
+                lamp_shadows += 1;
+            }
+        }
+        assert!(lamp_shadows > 24, "{lamp_shadows}");
     }
 
     impl DiffuseQueue<'_> {

@@ -73,9 +73,11 @@ impl GlassQueue {
             #[inline(always)]
             || glass_lanes(inputs, out),
         );
+        let carrying = out.carrying();
         for (lane, &slot) in self.slots[..self.len].iter().enumerate() {
             let mut path = block.paths.slots(slot);
-            out.continue_path(lane, &mut path, self.inputs.surface.position.get(lane), 0.0);
+            let vertex = self.inputs.surface.position.get(lane);
+            out.continue_path(lane, &mut path, vertex, 0.0, carrying);
         }
         self.len = 0;
     }

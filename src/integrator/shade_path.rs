@@ -11,7 +11,9 @@ use super::conductor_lanes::ConductorQueue;
 use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LampPoint, LightPoint, VertexLight};
 use super::glass_lanes::{GlassQueue, GlassVertex};
 use super::lanes::QueuedSurface;
-use super::shading::{PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_blocks};
+use super::shading::{
+    PathColumns, PathSlots, Scene, ShadingInputs, ShadowRay, face_forward, shade_live_blocks,
+};
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, unit_direction};
 use crate::light::{Light, LightTable};
@@ -35,18 +37,20 @@ pub fn shade_path_vertices(
             if !block.is_alive(i) {
                 continue;
             }
-            let path = block.paths.slots(i);
-            if let Some(ray) = shade_vertex(&scene, hit.as_ref(), path, &mut queues, i) {
+            if let Some(ray) = shade_vertex(&scene, hit.as_ref(), &mut block.paths, &mut queues, i)
+            {
                 block.shadows.emit_first(i, ray);
             }
             if queues.diffuse.is_full() {
-                queues.diffuse.finish(&mut block, scene.rr_depth);
+                queues.diffuse.finish(&mut block.reborrow(), scene.rr_depth);
             }
             if queues.conductor.is_full() {
-                queues.conductor.finish(&mut block, scene.rr_depth);
+                queues
+                    .conductor
+                    .finish(&mut block.reborrow(), scene.rr_depth);
             }
             if queues.glass.is_full() {
-                queues.glass.finish(&mut block);
+                queues.glass.finish(&mut block.reborrow());
             }
         }
         queues.diffuse.finish(&mut block, scene.rr_depth);
@@ -63,20 +67,23 @@ struct Queues<'a> {
     glass: GlassQueue,
 }
 
-/// Shades a path vertex where it stands (returning its shadow ray, if any), or, at a
-/// Lambertian surface, an isotropic GGX conductor or smooth glass, draws its random numbers (and
-/// light sample) and queues it as the block's path `slot` in `queues`, for
+/// Shades the vertex of the block's path `slot` (of `paths`) where it stands (returning its
+/// shadow ray, if any), or, at a Lambertian surface, an isotropic GGX conductor or smooth
+/// glass, draws its random numbers (and light sample) and queues it in `queues`, for
 /// [`DiffuseQueue::finish`], [`ConductorQueue::finish`] or [`GlassQueue::finish`]. Kept out of
 /// line: the build that LLVM inlined it into the block's loop (with a third queue; and
-/// `finish_lanes` passed as a function, not a closure) took 3 to 4 % more instructions.
+/// `finish_lanes` passed as a function, not a closure) took 3 to 4 % more instructions. Takes
+/// the columns, not the path's slots: the loop stored the slots' eleven references to the
+/// stack for each call.
 #[inline(never)]
 fn shade_vertex<'a>(
     scene: &Scene<'a>,
     hit: Option<&Hit>,
-    mut path: PathSlots,
+    paths: &mut PathColumns,
     queues: &mut Queues<'a>,
     slot: usize,
 ) -> Option<ShadowRay> {
+    let mut path = paths.slots(slot);
     let lights = scene.lights;
     // Mitsuba 3.9 with `hide_emitters` drops a camera path whose first surface (past null ones)
     // is an emitter, its reflection included, and one that leaves the scene unscattered.
@@ -313,9 +320,10 @@ fn queued_vertex<'a>(
 /// survives with probability min(t, 0.95) and is reweighted by its inverse: unbiased, and a dim
 /// path's expected cost falls with its contribution (Mitsuba 3's rule). Called only after a
 /// non-delta bounce: the throughput inside a dielectric carries 1 / eta^2, which leaving
-/// undoes, so a specular chain is judged where it ends. Inline: called out of line from the
-/// queues' write-back, it took dof-sky 0.9 % more instructions.
-#[inline]
+/// undoes, so a specular chain is judged where it ends. Always inline: called out of line
+/// from the queues' write-back (as plain `#[inline]` left it), each path's slots were stored
+/// to the stack for the call.
+#[inline(always)]
 pub fn russian_roulette(path: &mut PathSlots, rr_depth: u32) {
     let max_throughput = path.throughput.max_element();
     if *path.depth > rr_depth && max_throughput < 1.0 {

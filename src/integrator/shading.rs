@@ -177,12 +177,27 @@ impl PathSlots<'_> {
     /// is zero or not finite ends. The one place these fields are written after a bounce.
     #[inline(always)]
     pub fn continue_from(&mut self, vertex: Vec3, origin: Vec3, direction: Vec3, throughput: Vec3) {
+        let carries = math::is_finite_vec3(throughput) && throughput != Vec3::ZERO;
+        self.continue_carrying(vertex, origin, direction, throughput, carries);
+    }
+
+    /// [`PathSlots::continue_from`] with its test of the throughput done by the caller:
+    /// `carries`, the throughput finite and not zero (the lanes test eight at once).
+    #[inline(always)]
+    pub fn continue_carrying(
+        &mut self,
+        vertex: Vec3,
+        origin: Vec3,
+        direction: Vec3,
+        throughput: Vec3,
+        carries: bool,
+    ) {
         *self.throughput = throughput;
         *self.origin = origin;
         *self.direction = direction;
         *self.vertex = vertex;
         *self.depth += 1;
-        if !math::is_finite_vec3(throughput) || throughput == Vec3::ZERO {
+        if !carries {
             *self.alive = false;
         }
     }
@@ -220,7 +235,10 @@ pub struct PathBlock<'a> {
     pub shadows: ShadowColumns<'a>,
 }
 
-/// The block's path fields, one slice each.
+/// The block's path fields, one slice each, all of one length: the invariant that lets
+/// [`PathColumns::slots`] check one index against one length. Only this module builds the
+/// struct ([`shade_live_blocks`] cuts every column to the block's length, and
+/// [`PathColumns::reborrow`] keeps the slices whole).
 pub struct PathColumns<'a> {
     origin: &'a mut [Vec3],
     direction: &'a mut [Vec3],
@@ -249,29 +267,108 @@ impl PathBlock<'_> {
     pub fn is_alive(&self, i: usize) -> bool {
         self.paths.alive[i]
     }
+
+    /// The block again, for a call (a queue's flush) to take by reference in place of the
+    /// block itself: as the block's own address then never leaves its loop, the compiler keeps
+    /// its slices' lengths in registers and drops the loop's per-column bounds checks, which a
+    /// callee that could reassign the block's slices would force it to reload and redo.
+    #[inline(always)]
+    pub fn reborrow(&mut self) -> PathBlock<'_> {
+        PathBlock {
+            hits: self.hits,
+            paths: self.paths.reborrow(),
+            shadows: self.shadows.cut_to_one_length(),
+        }
+    }
 }
 
 impl PathColumns<'_> {
-    /// Path `i`'s slots. Always inlined: a call per path cost about 70 instructions, most of
-    /// them moving the references.
+    /// The columns again, reborrowed whole (so of one length still).
+    #[inline(always)]
+    pub fn reborrow(&mut self) -> PathColumns<'_> {
+        PathColumns {
+            origin: self.origin,
+            direction: self.direction,
+            vertex: self.vertex,
+            throughput: self.throughput,
+            radiance: self.radiance,
+            depth: self.depth,
+            pass_through: self.pass_through,
+            rng: self.rng,
+            first_draws: self.first_draws,
+            scatter_pdf: self.scatter_pdf,
+            alive: self.alive,
+        }
+    }
+
+    /// The columns' one length (see [`PathColumns`]).
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.alive.len()
+    }
+
+    /// Path `i`'s slots, after one bounds check (not one per column, which the compiler could
+    /// not merge where the columns' lengths come from memory: 22 instructions a path in the
+    /// queues' write-back and the block's loop). Always inlined: a call per path cost about
+    /// 70 instructions, most of them moving the references.
     #[inline(always)]
     pub fn slots(&mut self, i: usize) -> PathSlots<'_> {
-        PathSlots {
-            origin: &mut self.origin[i],
-            direction: &mut self.direction[i],
-            vertex: &mut self.vertex[i],
-            throughput: &mut self.throughput[i],
-            radiance: &mut self.radiance[i],
-            depth: &mut self.depth[i],
-            pass_through: &mut self.pass_through[i],
-            rng: PathDraws::new(&mut self.rng[i], &self.first_draws[i]),
-            scatter_pdf: &mut self.scatter_pdf[i],
-            alive: &mut self.alive[i],
+        let n = self.len();
+        assert!(i < n, "path {i} of a block of {n}");
+        debug_assert!(
+            [
+                self.origin.len(),
+                self.direction.len(),
+                self.vertex.len(),
+                self.throughput.len(),
+                self.radiance.len(),
+                self.depth.len(),
+                self.pass_through.len(),
+                self.rng.len(),
+                self.first_draws.len(),
+                self.scatter_pdf.len(),
+            ]
+            .iter()
+            .all(|&len| len == n)
+        );
+        // SAFETY: every column has the length `n` (the invariant of `PathColumns`), and
+        // `i < n`.
+        unsafe {
+            PathSlots {
+                origin: self.origin.get_unchecked_mut(i),
+                direction: self.direction.get_unchecked_mut(i),
+                vertex: self.vertex.get_unchecked_mut(i),
+                throughput: self.throughput.get_unchecked_mut(i),
+                radiance: self.radiance.get_unchecked_mut(i),
+                depth: self.depth.get_unchecked_mut(i),
+                pass_through: self.pass_through.get_unchecked_mut(i),
+                rng: PathDraws::new(
+                    self.rng.get_unchecked_mut(i),
+                    self.first_draws.get_unchecked(i),
+                ),
+                scatter_pdf: self.scatter_pdf.get_unchecked_mut(i),
+                alive: self.alive.get_unchecked_mut(i),
+            }
         }
     }
 }
 
 impl ShadowColumns<'_> {
+    /// The columns, each cut to the same length (a check per column, once): the compiler then
+    /// knows an index in bounds of one column is in bounds of all, and checks it once, not once
+    /// per column.
+    #[inline(always)]
+    pub fn cut_to_one_length(&mut self) -> ShadowColumns<'_> {
+        let n = self.t_max.len();
+        ShadowColumns {
+            origin: &mut self.origin[..n],
+            direction: &mut self.direction[..n],
+            t_max: &mut self.t_max[..n],
+            contribution: &mut self.contribution[..n],
+            rays_per_path: self.rays_per_path,
+        }
+    }
+
     /// Path `i`'s (emptied) shadow-ray slots.
     #[inline(always)]
     pub fn slots(&mut self, i: usize) -> ShadowSlots<'_> {
