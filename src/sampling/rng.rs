@@ -3,7 +3,7 @@
 
 use glam::Vec2;
 
-use super::hash::{GOLDEN_GAMMA, hash_extend, hash_words, mix64, unit_f32};
+use super::hash::{extend_unmixed, hash_extend, hash_words, mix64, unit_f32};
 use super::padded_sobol::{padded_sobol_1d, padded_sobol_2d};
 
 /// The draws of a path (calls of `next_f32` or `next_2d`, each one draw) that come from padded
@@ -24,7 +24,8 @@ pub const PADDED_DRAWS: u32 = 5;
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PathRng {
     /// The hashed draws' key with the pass's part of their counter added (see
-    /// [`PathRng::hashed`]): `hash(seed, pixel)`, the pixel key, plus [`counter_offset`].
+    /// [`PathRng::hashed`]): `hash(seed, pixel)`, the pixel key, extended by
+    /// [`counter_offset`] short of the mix ([`extend_unmixed`]).
     counter_key: u64,
     /// The sample index, bit-reversed (as the padded samples' index shuffle takes it).
     index_reversed: u32,
@@ -64,8 +65,10 @@ impl PassStreams {
     #[inline]
     pub fn path(self, pixel: u32) -> PathRng {
         PathRng {
-            counter_key: hash_extend(self.prefix, u64::from(pixel))
-                .wrapping_add(counter_offset(self.index_reversed)),
+            counter_key: extend_unmixed(
+                hash_extend(self.prefix, u64::from(pixel)),
+                counter_offset(self.index_reversed),
+            ),
             index_reversed: self.index_reversed,
             draw: self.first_draw,
         }
@@ -79,23 +82,21 @@ impl PassStreams {
         let offset = counter_offset(self.index_reversed);
         let keys = pixels.map(|pixel| hash_extend(self.prefix, u64::from(pixel)));
         keys.map(|pixel_key| PathRng {
-            counter_key: pixel_key.wrapping_add(offset),
+            counter_key: extend_unmixed(pixel_key, offset),
             index_reversed: self.index_reversed,
             draw: self.first_draw,
         })
     }
 }
 
-/// What a pass adds to its paths' pixel keys to make their [`PathRng::counter_key`]s: the
-/// hashed draws' counter is `(sample index reversed) << 32 | draw`, whose two halves do not
-/// overlap, so that it is their sum and its product with [`COUNTER_GAMMA`] (mod 2^64) the sum
-/// of the halves' products. The pass's half, and the increment that [`hash_extend`] adds, are
-/// added once a path rather than once a draw.
+/// The pass's part of its hashed draws' words, which extends its paths' pixel keys into their
+/// [`PathRng::counter_key`]s: the hashed draws' counter is `(sample index reversed) << 32 |
+/// draw`, whose two halves do not overlap, so that it is their sum and its product with
+/// [`COUNTER_GAMMA`] (mod 2^64) the sum of the halves' products. The pass's half is added
+/// once a path ([`extend_unmixed`]) rather than once a draw.
 #[inline(always)]
 fn counter_offset(index_reversed: u32) -> u64 {
-    (u64::from(index_reversed) << 32)
-        .wrapping_mul(COUNTER_GAMMA)
-        .wrapping_add(GOLDEN_GAMMA)
+    (u64::from(index_reversed) << 32).wrapping_mul(COUNTER_GAMMA)
 }
 
 impl PathRng {
@@ -107,8 +108,8 @@ impl PathRng {
     /// The key of the pixel's scrambles (for the padded draws).
     #[inline(always)]
     pub(super) fn pixel_key(&self) -> u64 {
-        self.counter_key
-            .wrapping_sub(counter_offset(self.index_reversed))
+        let added = extend_unmixed(0, counter_offset(self.index_reversed));
+        self.counter_key.wrapping_sub(added)
     }
 
     /// The key that tells the paths of a pass apart (a bijection of the pixel key).
@@ -144,8 +145,8 @@ impl PathRng {
     }
 
     /// 64 hashed bits for a draw past the padded ones: `hash_extend(pixel key, ((sample index
-    /// reversed) << 32 | draw) * COUNTER_GAMMA)`, with all but the draw's part of the sum in
-    /// the counter key.
+    /// reversed) << 32 | draw) * COUNTER_GAMMA)`, with all but the draw's part of the word in
+    /// the counter key ([`extend_unmixed`]).
     #[inline(always)]
     fn hashed(&self, draw: u32) -> u64 {
         mix64(
