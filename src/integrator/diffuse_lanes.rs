@@ -203,10 +203,17 @@ impl Inputs {
     /// Lane `lane`'s light sample, `light` (`has_light` false: none, `light` harmless values).
     #[inline(always)]
     fn set_light(&mut self, lane: usize, has_light: bool, light: &LightPoint) {
-        self.has_light[lane] = has_light;
-        self.lamp[lane] = false;
+        self.set_light_but_ray(lane, has_light, false, light);
         self.light_wi.set(lane, light.wi);
         self.light_distance.0[lane] = light.distance;
+    }
+
+    /// Lane `lane`'s light fields but the direction and distance to the light: all of them a
+    /// lamp lane (`lamp`) has before [`sample_lamps`] samples its lamp, which writes those two.
+    #[inline(always)]
+    fn set_light_but_ray(&mut self, lane: usize, has_light: bool, lamp: bool, light: &LightPoint) {
+        self.has_light[lane] = has_light;
+        self.lamp[lane] = lamp;
         self.light_radiance.set(lane, light.radiance);
         self.light_pdf.0[lane] = light.pdf;
         self.light_delta[lane] = light.delta;
@@ -266,12 +273,14 @@ impl<'a> DiffuseQueue<'a> {
                 }
                 inputs.lamp_u[0].0[lane] = lamp.u.x;
                 inputs.lamp_u[1].0[lane] = lamp.u.y;
-                // No direction or distance: `sample_lamps` writes a lamp lane's.
-                inputs.has_light[lane] = false;
-                inputs.lamp[lane] = true;
-                inputs.light_radiance.set(lane, lamp.radiance);
-                inputs.light_pdf.0[lane] = lamp.probability;
-                inputs.light_delta[lane] = false;
+                // No light sample yet; the density is the probability of choosing the lamp,
+                // which `sample_lamps` multiplies by its point's.
+                let light = LightPoint {
+                    radiance: lamp.radiance,
+                    pdf: lamp.probability,
+                    ..NO_LIGHT
+                };
+                inputs.set_light_but_ray(lane, false, true, &light);
             }
         }
         inputs.u[0].0[lane] = vertex.u.x;

@@ -126,18 +126,106 @@ impl Scene<'_> {
     }
 }
 
-/// One path's slots in the batch.
-pub struct PathSlots<'a> {
-    pub origin: &'a mut Vec3,
-    pub direction: &'a mut Vec3,
-    pub vertex: &'a mut Vec3,
-    pub throughput: &'a mut Vec3,
-    pub radiance: &'a mut Vec3,
-    pub depth: &'a mut u32,
-    pub pass_through: &'a mut u32,
-    pub rng: PathDraws<'a>,
-    pub scatter_pdf: &'a mut f32,
-    pub alive: &'a mut bool,
+/// Declares once the per-path fields the shading stages read and write (each a column of
+/// [`PathBatch`] of the same name and type): [`PathSlots`] (one path's), [`PathColumns`] (a
+/// block's) and the functions that name every field, from taking the batch's columns and
+/// cutting them into blocks to picking one path's slots, are derived from the list. The path's
+/// random stream is not in it: its two columns, the batch's `rng` and the first draws computed
+/// for the chunk, make one [`PathDraws`] per path.
+macro_rules! path_columns {
+    ($($field:ident: $ty:ty,)*) => {
+        /// One path's slots in the batch.
+        pub struct PathSlots<'a> {
+            $(pub $field: &'a mut $ty,)*
+            pub rng: PathDraws<'a>,
+        }
+
+        /// The block's path fields, one slice each, all of one length: the invariant that lets
+        /// [`PathColumns::slots`] check one index against one length. Only this module builds
+        /// the struct ([`PathColumns::par_blocks`] cuts every column into blocks of one length,
+        /// and [`PathColumns::reborrow`] keeps the slices whole).
+        pub struct PathColumns<'a> {
+            $($field: &'a mut [$ty],)*
+            rng: &'a mut [PathRng],
+            /// The padded draws computed for the paths in these slots at the chunk's start.
+            first_draws: &'a [FirstDraws],
+        }
+
+        impl<'a> PathColumns<'a> {
+            /// The batch's live-or-finished paths in blocks of `size` consecutive ones, in
+            /// parallel: each block's hits and columns, with their first draws (the chunk's
+            /// table, slot for slot). Every column is cut to the batch's length and then into
+            /// blocks of one size, so a block's columns have one length.
+            fn par_blocks(
+                hits: &'a [Option<Hit>],
+                first_draws: &'a [FirstDraws],
+                batch: &'a mut PathBatch,
+                size: usize,
+            ) -> impl IndexedParallelIterator<Item = (&'a [Option<Hit>], Self)> {
+                let n = batch.len;
+                (
+                    hits[..n].par_chunks(size),
+                    $(batch.$field[..n].par_chunks_mut(size),)*
+                    batch.rng[..n].par_chunks_mut(size),
+                    first_draws[..n].par_chunks(size),
+                )
+                    .into_par_iter()
+                    .map(|(hits, $($field,)* rng, first_draws)| {
+                        (hits, PathColumns { $($field,)* rng, first_draws })
+                    })
+            }
+        }
+
+        impl PathColumns<'_> {
+            /// The columns again, reborrowed whole (so of one length still).
+            #[inline(always)]
+            pub fn reborrow(&mut self) -> PathColumns<'_> {
+                PathColumns {
+                    $($field: self.$field,)*
+                    rng: self.rng,
+                    first_draws: self.first_draws,
+                }
+            }
+
+            /// Path `i`'s slots, after one bounds check (not one per column, which the compiler
+            /// could not merge where the columns' lengths come from memory: 22 instructions a
+            /// path in the queues' write-back and the block's loop). Always inlined: a call per
+            /// path cost about 70 instructions, most of them moving the references.
+            #[inline(always)]
+            pub fn slots(&mut self, i: usize) -> PathSlots<'_> {
+                let n = self.len();
+                assert!(i < n, "path {i} of a block of {n}");
+                debug_assert!(
+                    [$(self.$field.len(),)* self.rng.len(), self.first_draws.len()]
+                        .iter()
+                        .all(|&len| len == n)
+                );
+                // SAFETY: every column has the length `n` (the invariant of `PathColumns`),
+                // and `i < n`.
+                unsafe {
+                    PathSlots {
+                        $($field: self.$field.get_unchecked_mut(i),)*
+                        rng: PathDraws::new(
+                            self.rng.get_unchecked_mut(i),
+                            self.first_draws.get_unchecked(i),
+                        ),
+                    }
+                }
+            }
+        }
+    };
+}
+
+path_columns! {
+    origin: Vec3,
+    direction: Vec3,
+    vertex: Vec3,
+    throughput: Vec3,
+    radiance: Vec3,
+    depth: u32,
+    pass_through: u32,
+    scatter_pdf: f32,
+    alive: bool,
 }
 
 impl PathSlots<'_> {
@@ -235,25 +323,6 @@ pub struct PathBlock<'a> {
     pub shadows: ShadowColumns<'a>,
 }
 
-/// The block's path fields, one slice each, all of one length: the invariant that lets
-/// [`PathColumns::slots`] check one index against one length. Only this module builds the
-/// struct ([`shade_live_blocks`] cuts every column to the block's length, and
-/// [`PathColumns::reborrow`] keeps the slices whole).
-pub struct PathColumns<'a> {
-    origin: &'a mut [Vec3],
-    direction: &'a mut [Vec3],
-    vertex: &'a mut [Vec3],
-    throughput: &'a mut [Vec3],
-    radiance: &'a mut [Vec3],
-    depth: &'a mut [u32],
-    pass_through: &'a mut [u32],
-    rng: &'a mut [PathRng],
-    /// The padded draws computed for the paths in these slots at the chunk's start.
-    first_draws: &'a [FirstDraws],
-    scatter_pdf: &'a mut [f32],
-    alive: &'a mut [bool],
-}
-
 /// The block's shadow-ray fields, `rays_per_path` slots per path.
 pub struct ShadowColumns<'a> {
     origin: &'a mut [Vec3],
@@ -283,73 +352,10 @@ impl PathBlock<'_> {
 }
 
 impl PathColumns<'_> {
-    /// The columns again, reborrowed whole (so of one length still).
-    #[inline(always)]
-    pub fn reborrow(&mut self) -> PathColumns<'_> {
-        PathColumns {
-            origin: self.origin,
-            direction: self.direction,
-            vertex: self.vertex,
-            throughput: self.throughput,
-            radiance: self.radiance,
-            depth: self.depth,
-            pass_through: self.pass_through,
-            rng: self.rng,
-            first_draws: self.first_draws,
-            scatter_pdf: self.scatter_pdf,
-            alive: self.alive,
-        }
-    }
-
     /// The columns' one length (see [`PathColumns`]).
     #[inline(always)]
     fn len(&self) -> usize {
         self.alive.len()
-    }
-
-    /// Path `i`'s slots, after one bounds check (not one per column, which the compiler could
-    /// not merge where the columns' lengths come from memory: 22 instructions a path in the
-    /// queues' write-back and the block's loop). Always inlined: a call per path cost about
-    /// 70 instructions, most of them moving the references.
-    #[inline(always)]
-    pub fn slots(&mut self, i: usize) -> PathSlots<'_> {
-        let n = self.len();
-        assert!(i < n, "path {i} of a block of {n}");
-        debug_assert!(
-            [
-                self.origin.len(),
-                self.direction.len(),
-                self.vertex.len(),
-                self.throughput.len(),
-                self.radiance.len(),
-                self.depth.len(),
-                self.pass_through.len(),
-                self.rng.len(),
-                self.first_draws.len(),
-                self.scatter_pdf.len(),
-            ]
-            .iter()
-            .all(|&len| len == n)
-        );
-        // SAFETY: every column has the length `n` (the invariant of `PathColumns`), and
-        // `i < n`.
-        unsafe {
-            PathSlots {
-                origin: self.origin.get_unchecked_mut(i),
-                direction: self.direction.get_unchecked_mut(i),
-                vertex: self.vertex.get_unchecked_mut(i),
-                throughput: self.throughput.get_unchecked_mut(i),
-                radiance: self.radiance.get_unchecked_mut(i),
-                depth: self.depth.get_unchecked_mut(i),
-                pass_through: self.pass_through.get_unchecked_mut(i),
-                rng: PathDraws::new(
-                    self.rng.get_unchecked_mut(i),
-                    self.first_draws.get_unchecked(i),
-                ),
-                scatter_pdf: self.scatter_pdf.get_unchecked_mut(i),
-                alive: self.alive.get_unchecked_mut(i),
-            }
-        }
     }
 }
 
@@ -409,45 +415,17 @@ pub fn shade_live_blocks(
     shadows.resize(n);
     let k = shadows.rays_per_path;
     let slots = shadows.slots;
-    let paths = (
-        hits[..n].par_chunks(SHADE_BLOCK),
-        batch.origin[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.direction[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.vertex[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.throughput[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.radiance[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.depth[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.pass_through[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.rng[..n].par_chunks_mut(SHADE_BLOCK),
-        first_draws[..n].par_chunks(SHADE_BLOCK),
-        batch.scatter_pdf[..n].par_chunks_mut(SHADE_BLOCK),
-        batch.alive[..n].par_chunks_mut(SHADE_BLOCK),
-    );
     let shadow_slots = (
         shadows.origin[..slots].par_chunks_mut(SHADE_BLOCK * k),
         shadows.direction[..slots].par_chunks_mut(SHADE_BLOCK * k),
         shadows.t_max[..slots].par_chunks_mut(SHADE_BLOCK * k),
         shadows.contribution[..slots].par_chunks_mut(SHADE_BLOCK * k),
     );
-    shadows.rays = paths
-        .into_par_iter()
+    shadows.rays = PathColumns::par_blocks(hits, first_draws, batch, SHADE_BLOCK)
         .zip(shadow_slots.into_par_iter())
         .map(
             |(
-                (
-                    hits,
-                    origin,
-                    direction,
-                    vertex,
-                    throughput,
-                    radiance,
-                    depth,
-                    pass_through,
-                    rng,
-                    first_draws,
-                    scatter_pdf,
-                    alive,
-                ),
+                (hits, paths),
                 (shadow_origin, shadow_direction, shadow_t_max, shadow_contribution),
             )| {
                 let m = hits.len();
@@ -456,19 +434,7 @@ pub fn shade_live_blocks(
                 shadow_t_max[..m * k].fill(0.0);
                 shade(PathBlock {
                     hits,
-                    paths: PathColumns {
-                        origin: &mut origin[..m],
-                        direction: &mut direction[..m],
-                        vertex: &mut vertex[..m],
-                        throughput: &mut throughput[..m],
-                        radiance: &mut radiance[..m],
-                        depth: &mut depth[..m],
-                        pass_through: &mut pass_through[..m],
-                        rng: &mut rng[..m],
-                        first_draws: &first_draws[..m],
-                        scatter_pdf: &mut scatter_pdf[..m],
-                        alive: &mut alive[..m],
-                    },
+                    paths,
                     shadows: ShadowColumns {
                         origin: &mut shadow_origin[..m * k],
                         direction: &mut shadow_direction[..m * k],
