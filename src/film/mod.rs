@@ -2,6 +2,7 @@
 //! output and image comparison.
 
 pub mod checkpoint;
+mod exr_zip;
 #[allow(clippy::module_inception)]
 mod film;
 pub mod filter;
