@@ -86,8 +86,11 @@ impl Bilinear2D {
         self.integral
     }
 
-    /// A point of the grid with density interpolant / integral, with that density and its cell;
-    /// `None` when the interpolant is zero everywhere.
+    /// A point of the grid with density interpolant / integral, by its cell and fractions (see
+    /// [`Bilinear2D::point_in`]) with that density; `None` when the interpolant is zero
+    /// everywhere. Inline: returned through memory, the sample took a sixth more instructions
+    /// (0.7 % of the environment-lit peer scene's render).
+    #[inline]
     pub fn sample(&self, u: Vec2) -> Option<BilinearSample> {
         if self.integral <= 0.0 {
             return None;
@@ -102,9 +105,7 @@ impl Bilinear2D {
         let ty = sample_linear(u.y, v00 + v10, v01 + v11);
         let (left, right) = (lerp(v00, v01, ty), lerp(v10, v11, ty));
         let tx = sample_linear(ux, left, right);
-        let (xs, ys) = (&self.xs.positions, &self.ys.positions);
         Some(BilinearSample {
-            point: Vec2::new(lerp(xs[i], xs[i + 1], tx), lerp(ys[j], ys[j + 1], ty)),
             pdf: lerp(left, right, tx),
             cell: GridCell {
                 column: i,
@@ -112,6 +113,13 @@ impl Bilinear2D {
                 fraction: Vec2::new(tx, ty),
             },
         })
+    }
+
+    /// The point at `cell`'s fractions across it.
+    pub fn point_in(&self, cell: GridCell) -> Vec2 {
+        let (xs, ys) = (&self.xs.positions, &self.ys.positions);
+        let (i, j, t) = (cell.column, cell.row, cell.fraction);
+        Vec2::new(lerp(xs[i], xs[i + 1], t.x), lerp(ys[j], ys[j + 1], t.y))
     }
 
     /// The density of `sample` at `p` (clamped to the grid).
@@ -145,11 +153,12 @@ impl Bilinear2D {
     }
 }
 
-/// A point drawn by [`Bilinear2D::sample`]: where, its density, and its cell, so that data laid
-/// out on the same grid (the environment map's texels) is read there without a search.
+/// A point drawn by [`Bilinear2D::sample`]: its density, and its cell, so that data laid out on
+/// the same grid (the environment map's texels) is read there without a search. The point
+/// itself ([`Bilinear2D::point_in`]) is left to the caller that needs it: the environment map
+/// takes its direction from the cell's angles.
 #[derive(Clone, Copy, Debug)]
 pub struct BilinearSample {
-    pub point: Vec2,
     pub pdf: f32,
     pub cell: GridCell,
 }
@@ -250,25 +259,17 @@ mod tests {
         let d = grid();
         let mut rng = PathRng::new(3, 0, 0);
         for _ in 0..10_000 {
-            let BilinearSample {
-                point: p,
-                pdf,
-                cell,
-            } = d.sample(rng.next_2d()).unwrap();
+            let BilinearSample { pdf, cell } = d.sample(rng.next_2d()).unwrap();
+            let p = d.point_in(cell);
             assert!((0.0..=1.0).contains(&p.x) && (0.0..=1.0).contains(&p.y));
             assert!((pdf - d.pdf(p)).abs() <= 1e-4 * pdf.max(1.0), "{p} {pdf}");
-            // The sample's cell holds its point, which its fractions locate.
+            // The sample's fractions locate a point in its cell.
             let (xs, ys) = (&d.xs.positions, &d.ys.positions);
             let (i, j) = (cell.column, cell.row);
             assert!(
                 (xs[i]..=xs[i + 1]).contains(&p.x) && (ys[j]..=ys[j + 1]).contains(&p.y),
                 "{p} outside {cell:?}"
             );
-            let located = Vec2::new(
-                lerp(xs[i], xs[i + 1], cell.fraction.x),
-                lerp(ys[j], ys[j + 1], cell.fraction.y),
-            );
-            assert_eq!(located, p);
             // The same bilinear form, interpolated in the other order.
             assert!(
                 (d.pdf_in_cell(cell) - pdf).abs() <= 1e-5 * pdf.max(1.0),
@@ -309,7 +310,7 @@ mod tests {
         let mut rng = PathRng::new(4, 0, 0);
         let (x_bins, y_bins) = (Axis::new(xs.to_vec()), Axis::new(ys.to_vec()));
         for _ in 0..n {
-            let p = d.sample(rng.next_2d()).unwrap().point;
+            let p = d.point_in(d.sample(rng.next_2d()).unwrap().cell);
             let (i, _) = x_bins.cell_of(p.x);
             let (j, _) = y_bins.cell_of(p.y);
             counts[j * (xs.len() - 1) + i] += 1;
