@@ -348,21 +348,40 @@ mod tests {
         dir.join(name)
     }
 
+    fn metadata(samples_per_pixel: u32, seconds: f64, seed: u64, command: &str) -> ImageMetadata {
+        ImageMetadata {
+            samples_per_pixel,
+            seconds,
+            seed,
+            command_line: command.into(),
+        }
+    }
+
+    /// Writes `pixels` (times `exposure`) as the scratch EXR `name`, reads it back and checks
+    /// its size: the file's path and the pixels read.
+    fn write_and_read_exr(
+        name: &str,
+        width: u32,
+        height: u32,
+        pixels: &[Vec3],
+        exposure: f32,
+        metadata: &ImageMetadata,
+    ) -> (PathBuf, Vec<Vec3>) {
+        let path = scratch(name);
+        write_image(&path, width, height, pixels, exposure, metadata)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let (w, h, read) = read_exr(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((w, h), (width, height));
+        (path, read)
+    }
+
     #[test]
     fn linear_formats_round_trip_with_exposure_and_exr_metadata() {
         let pixels: Vec<Vec3> = (0..6)
             .map(|i| Vec3::new(i as f32 * 0.1, 1e-7 * i as f32, 1234.5678 + i as f32))
             .collect();
-        let metadata = ImageMetadata {
-            samples_per_pixel: 7,
-            seconds: 1.5,
-            seed: 99,
-            command_line: "foton render x.lxs".into(),
-        };
-        let path = scratch("round.exr");
-        write_image(&path, 3, 2, &pixels, 2.0, &metadata).unwrap_or_else(|e| panic!("{e}"));
-        let (w, h, read) = read_exr(&path).unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!((w, h), (3, 2));
+        let metadata = metadata(7, 1.5, 99, "foton render x.lxs");
+        let (path, read) = write_and_read_exr("round.exr", 3, 2, &pixels, 2.0, &metadata);
         let doubled: Vec<Vec3> = pixels.iter().map(|&p| p * 2.0).collect();
         assert_eq!(read, doubled);
         let meta =
@@ -442,17 +461,8 @@ mod tests {
                 _ => Vec3::new(i as f32 * 0.01, 1.0 / (1 + i) as f32, 2.5),
             })
             .collect();
-        let metadata = ImageMetadata {
-            samples_per_pixel: 3,
-            seconds: 0.25,
-            seed: 5,
-            command_line: "foton render blocks.xml".into(),
-        };
-        let path = scratch("blocks.exr");
-        write_image(&path, width, height, &pixels, 1.0, &metadata)
-            .unwrap_or_else(|e| panic!("{e}"));
-        let (w, h, read) = read_exr(&path).unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!((w, h), (width, height));
+        let metadata = metadata(3, 0.25, 5, "foton render blocks.xml");
+        let (path, read) = write_and_read_exr("blocks.exr", width, height, &pixels, 1.0, &metadata);
         let bits = |p: &[Vec3]| -> Vec<u32> {
             p.iter()
                 .flat_map(|v| v.to_array())
