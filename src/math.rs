@@ -39,16 +39,12 @@ pub fn atan2(y: f32, x: f32) -> f32 {
         };
     }
     let r = num / den;
-    let (base, z) = if r > 0.414_213_57 {
+    let (base, z) = if r > TAN_PI_8 {
         (FRAC_PI_4, (r - 1.0) / (r + 1.0))
     } else {
         (0.0, r)
     };
-    let z2 = z * z;
-    let poly = (((8.053_744_5e-2 * z2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2 - 3.333_295e-1)
-        * z2
-        * z
-        + z;
+    let poly = atan_reduced(z);
     let mut angle = base + poly;
     if swapped {
         angle = FRAC_PI_2 - angle;
@@ -57,6 +53,22 @@ pub fn atan2(y: f32, x: f32) -> f32 {
         angle = PI - angle;
     }
     angle.copysign(y)
+}
+
+/// tan(pi/8): above it [`atan2`] reduces r to (r - 1) / (r + 1), whose angle is pi/4 less.
+const TAN_PI_8: f32 = 0.414_213_57;
+
+/// atan z for |z| <= tan(pi/8), the odd minimax polynomial of [`atan2`]'s reduced argument;
+/// generic so that [`atan2_lanes`] evaluates the very same operations in each lane.
+#[inline(always)]
+fn atan_reduced<T>(z: T) -> T
+where
+    T: Copy + Mul<Output = T> + Mul<f32, Output = T> + Add<Output = T> + Add<f32, Output = T>,
+    T: Sub<f32, Output = T>,
+{
+    let z2 = z * z;
+    (((z2 * 8.053_744_5e-2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2 - 3.333_295e-1) * z2 * z
+        + z
 }
 
 /// [`atan2`] of each lane, to the bit: the same operations, with its branches as selects,
@@ -69,14 +81,10 @@ pub fn atan2_lanes(y: Vec4, x: Vec4) -> Vec4 {
     let (num, den) = (select_lanes(swapped, ax, ay), select_lanes(swapped, ay, ax));
     // 0 / 0 gives NaN in the lanes that `atan2` returns early from; the last select drops it.
     let r = num / den;
-    let reduced = r.cmpgt(Vec4::splat(0.414_213_57));
+    let reduced = r.cmpgt(Vec4::splat(TAN_PI_8));
     let base = select_lanes(reduced, Vec4::splat(FRAC_PI_4), Vec4::ZERO);
     let z = select_lanes(reduced, (r - 1.0) / (r + 1.0), r);
-    let z2 = z * z;
-    let poly = (((8.053_744_5e-2 * z2 - 1.387_768_6e-1) * z2 + 1.997_771_1e-1) * z2 - 3.333_295e-1)
-        * z2
-        * z
-        + z;
+    let poly = atan_reduced(z);
     let angle = base + poly;
     let angle = select_lanes(swapped, FRAC_PI_2 - angle, angle);
     let negative_x = x.cmplt(Vec4::ZERO);
