@@ -21,7 +21,7 @@ from the previous count go idle), median of --repeat runs (seeds 1..repeat; relM
 With --rounds N (default 3) each scene is measured N times over, the rounds one after another, so
 that the machine's drifting speed (here, up to 0.3 in one ratio between runs minutes apart) shows
 as a range: the tables give the median of the rounds' ratios and their range; a point's seconds
-are the median over all rounds' runs and its relMSE their mean.
+are the median of the rounds' medians and its relMSE the mean of their means.
 
 From the points, per scene:
 - equal spp: foton's relMSE / Mitsuba's at the largest sample count;

@@ -168,18 +168,8 @@ fn save(path: &Path, image: Option<DynamicImage>, format: ImageFormat) -> Result
         .map_err(|e| e.to_string())
 }
 
-/// OpenEXR, ZIP-compressed scan lines of 32-bit floats; the render's settings as attributes
-/// (`foton:spp`, `foton:seconds`, `foton:seed`, `foton:command`) and the software's name.
-/// The exr crate writes the header and the offset table; the blocks of 16 scan lines are
-/// compressed here (`exr_zip`, a faster zlib level than the crate's), in parallel, each
-/// independently of the thread count, so the file's bytes do not depend on it.
-fn write_exr(
-    path: &Path,
-    width: u32,
-    height: u32,
-    pixels: &[Vec3],
-    metadata: &ImageMetadata,
-) -> Result<(), String> {
+/// The EXR layer's attributes: the software's name and the render's settings.
+fn exr_attributes(metadata: &ImageMetadata) -> LayerAttributes {
     let mut attributes = LayerAttributes::named("");
     attributes.software_name = Some(text("foton"));
     for (name, value) in [
@@ -192,6 +182,22 @@ fn write_exr(
             .other
             .insert(text(name), AttributeValue::Text(text(&value)));
     }
+    attributes
+}
+
+/// OpenEXR, ZIP-compressed scan lines of 32-bit floats; the render's settings as attributes
+/// (`foton:spp`, `foton:seconds`, `foton:seed`, `foton:command`) and the software's name.
+/// The exr crate writes the header and the offset table; the blocks of 16 scan lines are
+/// compressed here (`exr_zip`, a faster zlib level than the crate's), in parallel, each
+/// independently of the thread count, so the file's bytes do not depend on it.
+fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    metadata: &ImageMetadata,
+) -> Result<(), String> {
+    let attributes = exr_attributes(metadata);
     let w = width as usize;
     // The channels only name R, G, B as 32-bit floats for the header; the samples are packed
     // below, in the header's channel order.
@@ -494,25 +500,13 @@ mod tests {
         assert_eq!(block_sizes[1], raw_block);
         // The header is the one the crate's own writer makes for the same image.
         let reference = scratch("blocks-crate.exr");
-        let mut attributes = LayerAttributes::named("");
-        attributes.software_name = Some(text("foton"));
-        for (name, value) in [
-            ("foton:spp", "3"),
-            ("foton:seconds", "0.250"),
-            ("foton:seed", "5"),
-            ("foton:command", "foton render blocks.xml"),
-        ] {
-            attributes
-                .other
-                .insert(text(name), AttributeValue::Text(text(value)));
-        }
         let channels = SpecificChannels::rgb(|p: exr::math::Vec2<usize>| {
             let v = pixels[p.y() * width as usize + p.x()];
             (v.x, v.y, v.z)
         });
         let layer = Layer::new(
             (width as usize, height as usize),
-            attributes,
+            exr_attributes(&metadata),
             Encoding::SMALL_LOSSLESS,
             channels,
         );
