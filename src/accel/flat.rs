@@ -22,7 +22,7 @@
 
 use std::cell::RefCell;
 
-use glam::{Vec3, Vec3A};
+use glam::{Mat3A, Vec3, Vec3A};
 
 #[cfg(target_arch = "x86_64")]
 use super::coplanar::RayScale;
@@ -60,6 +60,14 @@ struct FlatTriangle {
 #[derive(Clone, Copy, Debug)]
 struct FlatSphere {
     rows: [[f32; 4]; 3],
+    /// The map's translation where its linear part is the identity (a sphere given by centre
+    /// and radius): the test then adds it to the ray's origin and keeps the direction, rather
+    /// than multiply both by the identity's rows. `1 x + 0 y + 0 z` is `x` but for the sign
+    /// of a zero (`-0 + 0 = +0`), which no root's test sees: a coordinate's zero sign reaches
+    /// `t` only through an exactly zero `b` and discriminant, whose roots `±0`, `±inf` or NaN
+    /// fail the range tests alike (`t_min` is not negative, the extent is finite or an
+    /// infinite `t_max` that `inf` fails too). The same holds of `surface::sphere_surface`.
+    translation: Option<[f32; 3]>,
     radius: f32,
     id: u32,
 }
@@ -371,13 +379,21 @@ fn sphere_lanes<S: Lanes>(sphere: &FlatSphere, rays: &Rays<S>, t_max: S) -> (S::
     let map = |row: &[f32; 4], p: &[S; 3]| {
         S::splat(row[0]) * p[0] + S::splat(row[1]) * p[1] + S::splat(row[2]) * p[2]
     };
-    let [r0, r1, r2] = &sphere.rows;
-    let o = [
-        map(r0, &rays.o) + S::splat(r0[3]),
-        map(r1, &rays.o) + S::splat(r1[3]),
-        map(r2, &rays.o) + S::splat(r2[3]),
-    ];
-    let d = [map(r0, &rays.d), map(r1, &rays.d), map(r2, &rays.d)];
+    let (o, d) = match &sphere.translation {
+        Some(t) => (
+            [0, 1, 2].map(|axis| rays.o[axis] + S::splat(t[axis])),
+            rays.d,
+        ),
+        None => {
+            let [r0, r1, r2] = &sphere.rows;
+            let o = [
+                map(r0, &rays.o) + S::splat(r0[3]),
+                map(r1, &rays.o) + S::splat(r1[3]),
+                map(r2, &rays.o) + S::splat(r2[3]),
+            ];
+            (o, [map(r0, &rays.d), map(r1, &rays.d), map(r2, &rays.d)])
+        }
+    };
     let r = S::splat(sphere.radius);
     let two = S::splat(2.0);
     let a = dot(&d, &d);
@@ -499,6 +515,7 @@ impl Flat {
                 ];
                 FlatSphere {
                     rows: [0, 1, 2].map(|i| columns.map(|column| column[i])),
+                    translation: (m.matrix3 == Mat3A::IDENTITY).then(|| m.translation.to_array()),
                     radius: s.radius,
                     id: sphere_id(i),
                 }

@@ -114,7 +114,7 @@ fn conductor_lanes(inputs: &Inputs, lobes: &Lobes, fresnel: (bool, bool), out: &
             let (f, pdf) = lobe.eval_and_pdf(wo_unit, wi_unit);
             (
                 (wi_sound & f.is_finite()).select_v(f, V8::default()),
-                (wi_sound & is_positive_finite(pdf)).select(pdf, zero),
+                (wi_sound & pdf.is_positive_finite()).select(pdf, zero),
             )
         };
         light_lanes(inputs, out, &frame, eval);
@@ -133,7 +133,7 @@ fn conductor_lanes(inputs: &Inputs, lobes: &Lobes, fresnel: (bool, bool), out: &
     };
     let (f, pdf) = lobe.eval_and_pdf(wo_unit, wi);
     // `BsdfSample::glossy` and `checked_sample`.
-    let sampled = wo_unit.z.gt(zero) & wi.is_finite() & f.is_finite() & is_positive_finite(pdf);
+    let sampled = wo_unit.z.gt(zero) & wi.is_finite() & f.is_finite() & pdf.is_positive_finite();
     let sample = Sampled {
         wi_local_z: wi.z,
         wi: frame.to_world(wi),
@@ -141,12 +141,6 @@ fn conductor_lanes(inputs: &Inputs, lobes: &Lobes, fresnel: (bool, bool), out: &
         pdf,
     };
     scatter_lanes(inputs, out, wo_local.z, sound & sampled, sample);
-}
-
-/// `math::is_positive_finite` per lane.
-#[inline(always)]
-fn is_positive_finite(x: F8) -> M8 {
-    x.gt(F8::splat(0.0)) & x.le(F8::splat(f32::MAX))
 }
 
 /// `f32::clamp(x, 0, 1)` per lane (NaN stays NaN).

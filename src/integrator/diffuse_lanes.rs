@@ -408,7 +408,7 @@ fn finish_lanes(inputs: &Inputs, out: &mut Outputs) {
             let lit = wi_sound & above(wi_unit.z);
             let f = (lit & f_lambert.is_finite()).select_v(f_lambert, V8::default());
             let pdf = wi_unit.z.max(zero) * FRAC_1_PI;
-            (f, (lit & pdf.is_finite() & pdf.gt(zero)).select(pdf, zero))
+            (f, (lit & pdf.is_positive_finite()).select(pdf, zero))
         };
         light_lanes(inputs, out, &frame, eval);
         out.has_shadow = out.has_shadow & sound;

@@ -141,11 +141,7 @@ fn glass_lanes(inputs: &Inputs, out: &mut NextRays) {
     let f = mirror.select_v(f_reflected, f_refracted);
     let pdf = mirror.select(r, t);
     // `checked_sample`, `math::is_positive_finite`.
-    let sampled = (mirror | refracts)
-        & wi.is_finite()
-        & f.is_finite()
-        & pdf.gt(zero)
-        & pdf.le(F8::splat(f32::MAX));
+    let sampled = (mirror | refracts) & wi.is_finite() & f.is_finite() & pdf.is_positive_finite();
     out.scattered = sound & sampled;
     let cos = wi.z.abs();
     out.throughput = inputs.surface.throughput.mul(V8 {

@@ -119,6 +119,16 @@ impl F8 {
         mask(|i| self.0[i].is_finite())
     }
 
+    /// `math::is_positive_finite` per lane: `x > 0` and `x <= f32::MAX` (false for NaN), the
+    /// mask of `is_finite() & gt(0)`. Written as two comparisons because LLVM folds that pair
+    /// into a floating-point class test, which it then computes lane by lane in scalar code
+    /// (about 120 instructions a mask, Cornell box: 3 % of the render's instructions in the
+    /// lanes' normalisations), where these two stay two vector comparisons.
+    #[inline(always)]
+    pub fn is_positive_finite(self) -> M8 {
+        self.gt(Self::splat(0.0)) & self.le(Self::splat(f32::MAX))
+    }
+
     #[inline(always)]
     pub fn is_infinite(self) -> M8 {
         mask(|i| self.0[i].is_infinite())
@@ -374,7 +384,7 @@ impl LaneFrame {
 #[inline(always)]
 pub fn unit_direction(v: V8) -> (V8, M8) {
     let rcp = 1.0 / v.dot(v).sqrt();
-    (v.scale(rcp), rcp.is_finite() & rcp.gt(F8::splat(0.0)))
+    (v.scale(rcp), rcp.is_positive_finite())
 }
 
 /// `math::offset_ray_origin` per lane.

@@ -190,11 +190,13 @@ macro_rules! path_columns {
             /// Path `i`'s slots, after one bounds check (not one per column, which the compiler
             /// could not merge where the columns' lengths come from memory: 22 instructions a
             /// path in the queues' write-back and the block's loop). Always inlined: a call per
-            /// path cost about 70 instructions, most of them moving the references.
+            /// path cost about 70 instructions, most of them moving the references. The check's
+            /// message names no numbers: formatting `i` and `n` had the loops store both to the
+            /// stack for every path, for the panic's arguments.
             #[inline(always)]
             pub fn slots(&mut self, i: usize) -> PathSlots<'_> {
                 let n = self.len();
-                assert!(i < n, "path {i} of a block of {n}");
+                assert!(i < n, "a path's slot is within its block");
                 debug_assert!(
                     [$(self.$field.len(),)* self.rng.len(), self.first_draws.len()]
                         .iter()

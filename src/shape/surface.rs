@@ -26,12 +26,59 @@ pub struct SurfacePoint {
 impl SceneGeometry {
     /// The surface at `hit` on the ray from `origin` along `direction` (by reference: passed by
     /// value to this out-of-line call, each was copied to the stack first).
+    ///
+    /// A world triangle, the common hit, is told by one comparison: triangles hold the first
+    /// ids ([`crate::accel::PrimitiveIds`]), one face normal each, so an id below
+    /// `face_normals`' length is a triangle's and indexes its normal, already bounds-checked.
+    /// A sphere placed by a translation alone, without uv (the next most common hit, the ids
+    /// after the triangles'), is answered here too; the other kinds are decoded out of line
+    /// ([`SceneGeometry::other_surface_point`]), which keeps these paths free of their
+    /// registers' saves and restores.
     pub fn surface_point(&self, hit: &Hit, origin: &Vec3, direction: &Vec3) -> SurfacePoint {
+        let prim = hit.prim as usize;
+        let Some(&ng) = self.face_normals.get(prim) else {
+            let sphere = self.spheres.get(prim.wrapping_sub(self.face_normals.len()));
+            if let Some(sphere) = sphere
+                && !sphere.uv
+                && let Some(translation) = sphere.translation_only
+            {
+                // `sphere_surface`'s normal, to the bit.
+                let position = *origin + *direction * hit.t;
+                let n = normalize_or(position + translation, Vec3::Z);
+                return SurfacePoint {
+                    position,
+                    geometric_normal: n,
+                    shading_normal: n,
+                    uv: Vec2::ZERO,
+                    material: self.material[prim],
+                    emitter: self.emitter[prim],
+                    prim: hit.prim,
+                };
+            }
+            return self.other_surface_point(hit, origin, direction);
+        };
+        let (geometric_normal, shading_normal, uv) = self.triangle_surface(prim, ng, hit.u, hit.v);
+        SurfacePoint {
+            position: *origin + *direction * hit.t,
+            geometric_normal,
+            shading_normal,
+            uv,
+            material: self.material[prim],
+            emitter: self.emitter[prim],
+            prim: hit.prim,
+        }
+    }
+
+    /// [`SceneGeometry::surface_point`] on anything but a world triangle.
+    #[inline(never)]
+    fn other_surface_point(&self, hit: &Hit, origin: &Vec3, direction: &Vec3) -> SurfacePoint {
         let prim = hit.prim as usize;
         let position = *origin + *direction * hit.t;
         let kind = (self.ids.decode(hit.prim)).expect("the accel reports only its own ids");
         let (geometric_normal, shading_normal, uv) = match kind {
-            PrimitiveRef::Triangle(i) => self.triangle_surface(i, hit.u, hit.v),
+            PrimitiveRef::Triangle(i) => {
+                self.triangle_surface(i, self.face_normals[i], hit.u, hit.v)
+            }
             PrimitiveRef::InstanceTriangle { instance, triangle } => {
                 let p = (self.world_triangle(kind)).expect("instance ids name triangles");
                 let mesh = self.instances[instance].mesh as usize;
@@ -70,10 +117,12 @@ impl SceneGeometry {
         }
     }
 
-    fn triangle_surface(&self, i: usize, u: f32, v: f32) -> (Vec3, Vec3, Vec2) {
+    /// World triangle `i`'s surface, `ng` its face normal.
+    #[inline(always)]
+    fn triangle_surface(&self, i: usize, ng: Vec3, u: f32, v: f32) -> (Vec3, Vec3, Vec2) {
         let normals = self.triangle_normals.get(i).copied();
         let uvs = self.triangle_uvs.get(i).copied();
-        interpolate(self.face_normals[i], normals, uvs, u, v)
+        interpolate(ng, normals, uvs, u, v)
     }
 
     fn sphere_surface(&self, i: usize, position: Vec3) -> (Vec3, Vec3, Vec2) {
