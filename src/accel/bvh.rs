@@ -204,6 +204,24 @@ pub(super) fn finite_reciprocal(dir: Vec3A) -> Vec3A {
     dir.abs().max(tiny).copysign(dir).recip()
 }
 
+/// [`finite_reciprocal`] of eight lanes (one axis of a packet's rays): the same operations lane
+/// by lane (the magnitude raised to the smallest normal float, the sign copied back, one IEEE
+/// division), so the same bits. Only for functions compiled for AVX2 (the packets'), into
+/// which it is inlined.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(super) fn finite_reciprocals(dir: std::arch::x86_64::__m256) -> std::arch::x86_64::__m256 {
+    use std::arch::x86_64::*;
+    // SAFETY: called only where AVX is enabled (see above).
+    unsafe {
+        let sign = _mm256_set1_ps(-0.0);
+        let tiny = _mm256_set1_ps(f32::MIN_POSITIVE);
+        let magnitude = _mm256_max_ps(_mm256_andnot_ps(sign, dir), tiny);
+        let signed = _mm256_or_ps(_mm256_and_ps(dir, sign), _mm256_andnot_ps(sign, magnitude));
+        _mm256_div_ps(_mm256_set1_ps(1.0), signed)
+    }
+}
+
 /// For directions with the sign bits `negative` (bit `axis` set for a negative component),
 /// per axis the byte offset in a node's `bounds` of the plane a ray enters the slab through,
 /// and of the one it leaves through: the upper bound first where the component is negative.

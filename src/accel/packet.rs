@@ -21,7 +21,7 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocal, slab_planes};
+use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
 
 /// Rays per packet: the lanes of one AVX register.
 pub(crate) const PACKET_SIZE: usize = 8;
@@ -71,15 +71,14 @@ impl RayPacket {
     #[inline(always)]
     pub fn new(origin: Vec3, dirs: &[Vec3]) -> RayPacket {
         let mut all = [Vec3A::from(dirs[0]); PACKET_SIZE];
-        let mut inv = [[0.0f32; PACKET_SIZE]; 3];
+        // Per axis, the directions lane by lane, whose reciprocals are then computed eight
+        // lanes at a time.
+        let mut d = [[0.0f32; PACKET_SIZE]; 3];
         for (lane, dir) in all.iter_mut().enumerate() {
-            if let Some(&d) = dirs.get(lane) {
-                *dir = d.into();
+            if let Some(&v) = dirs.get(lane) {
+                *dir = v.into();
             }
-            let inv_dir = finite_reciprocal(*dir);
-            for axis in 0..3 {
-                inv[axis][lane] = inv_dir[axis];
-            }
+            (d[0][lane], d[1][lane], d[2][lane]) = (dir.x, dir.y, dir.z);
         }
         let (near, far) = slab_planes(Vec3A::from(dirs[0]).is_negative_bitmask());
         let origin = Vec3A::from(origin);
@@ -88,7 +87,7 @@ impl RayPacket {
             origin4: [0, 1, 2].map(|axis| Vec4::splat(origin[axis])),
             dirs: all,
             // SAFETY: see the module's documentation.
-            inv_dir: inv.map(|lanes| unsafe { _mm256_loadu_ps(lanes.as_ptr()) }),
+            inv_dir: d.map(|lanes| finite_reciprocals(unsafe { _mm256_loadu_ps(lanes.as_ptr()) })),
             near,
             far,
         }

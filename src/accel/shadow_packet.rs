@@ -22,7 +22,7 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocal, slab_planes};
+use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
 use super::packet::PACKET_SIZE;
 
 /// Two rays share a packet only if their origins, and the ends of their ranges, are closer to
@@ -86,7 +86,9 @@ pub(crate) struct ShadowPacket {
 
 impl ShadowPacket {
     /// The packet of rays `indices` (1 to [`PACKET_SIZE`] of them, a
-    /// [`coherent_shadow_run`]) of `origins` and `dirs`.
+    /// [`coherent_shadow_run`]) of `origins` and `dirs`. Each ray's coordinates go to their
+    /// axis's lane as it is read, and the reciprocal directions are computed eight lanes at a
+    /// time ([`finite_reciprocals`]), rather than ray by ray and then moved lane by lane.
     #[inline(always)]
     pub fn new(
         origins: &[Vec3],
@@ -95,32 +97,30 @@ impl ShadowPacket {
     ) -> ShadowPacket {
         let mut packet_origins = [Vec3A::ZERO; PACKET_SIZE];
         let mut packet_dirs = [Vec3A::ZERO; PACKET_SIZE];
+        let mut o = [[0.0f32; PACKET_SIZE]; 3];
+        let mut d = [[0.0f32; PACKET_SIZE]; 3];
         let mut count = 0;
         for (lane, i) in indices.take(PACKET_SIZE).enumerate() {
-            packet_origins[lane] = origins[i].into();
-            packet_dirs[lane] = dirs[i].into();
+            let (origin, dir) = (origins[i], dirs[i]);
+            (packet_origins[lane], packet_dirs[lane]) = (origin.into(), dir.into());
+            (o[0][lane], o[1][lane], o[2][lane]) = (origin.x, origin.y, origin.z);
+            (d[0][lane], d[1][lane], d[2][lane]) = (dir.x, dir.y, dir.z);
             count = lane + 1;
         }
         for lane in count..PACKET_SIZE {
             (packet_origins[lane], packet_dirs[lane]) = (packet_origins[0], packet_dirs[0]);
-        }
-        let mut o = [[0.0f32; PACKET_SIZE]; 3];
-        let mut inv = [[0.0f32; PACKET_SIZE]; 3];
-        for lane in 0..PACKET_SIZE {
-            let dir = packet_dirs[lane];
-            let inv_dir = finite_reciprocal(dir);
             for axis in 0..3 {
-                o[axis][lane] = packet_origins[lane][axis];
-                inv[axis][lane] = inv_dir[axis];
+                (o[axis][lane], d[axis][lane]) = (o[axis][0], d[axis][0]);
             }
         }
         let (near, far) = slab_planes(packet_dirs[0].is_negative_bitmask());
+        // SAFETY: see the module's documentation.
+        let load = |lanes: [f32; PACKET_SIZE]| unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
         ShadowPacket {
             origins: packet_origins,
             dirs: packet_dirs,
-            // SAFETY: see the module's documentation.
-            origin: o.map(|lanes| unsafe { _mm256_loadu_ps(lanes.as_ptr()) }),
-            inv_dir: inv.map(|lanes| unsafe { _mm256_loadu_ps(lanes.as_ptr()) }),
+            origin: o.map(load),
+            inv_dir: d.map(|lanes| finite_reciprocals(load(lanes))),
             near,
             far,
         }

@@ -34,6 +34,7 @@ use crate::film::{Film, PixelFilter, Reconstruction};
 use crate::light::{LightTable, build_light_table};
 use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
+use crate::sampling::PADDED_DRAWS;
 use crate::settings::{IntegratorKind, RenderSettings, Techniques};
 use crate::shape::geometry::{SceneGeometry, build_scene_geometry};
 use accumulate::{gather_unoccluded_light, retire_finished_paths};
@@ -159,17 +160,20 @@ impl Renderer {
         let settings = world.resource::<RenderSettings>().clone();
         world.init_resource::<PassIndex>();
         world.init_resource::<ChunkRange>();
-        world.init_resource::<FirstDrawsTable>();
         world.init_resource::<PathBatch>();
         world.init_resource::<HitBatch>();
-        // The path tracer: one ray to a light drawn at random; the ray caster: one per light.
-        let (rays_per_path, slot_per_light) = match settings.integrator {
-            IntegratorKind::PathTracer => (1, false),
-            IntegratorKind::RayCaster => {
-                (shadow_rays_per_path(world.resource::<LightTable>()), true)
-            }
+        // The path tracer: one ray to a light drawn at random, and all its first vertex's
+        // padded draws computed ahead; the ray caster: one ray per light, and its BSDF choice.
+        let (rays_per_path, slot_per_light, draws_ahead) = match settings.integrator {
+            IntegratorKind::PathTracer => (1, false, PADDED_DRAWS),
+            IntegratorKind::RayCaster => (
+                shadow_rays_per_path(world.resource::<LightTable>()),
+                true,
+                shade_raycast::DRAWS_AHEAD,
+            ),
         };
         world.insert_resource(ShadowBatch::new(rays_per_path, slot_per_light));
+        world.insert_resource(FirstDrawsTable::new(draws_ahead));
 
         let mut chunk = Schedule::default();
         register_cameras(&mut chunk, &mut world);

@@ -20,6 +20,12 @@ use crate::light::{Light, LightSample, LightTable};
 use crate::shape::geometry::NO_EMITTER;
 use crate::shape::surface::SurfacePoint;
 
+/// The ray caster's first draws computed at the chunk's start (`FirstDrawsTable`): the BSDF
+/// choice, the one draw every shaded hit makes. A mirror's or glass's bounce and an area or
+/// environment light's point, which fewer hits draw, are drawn where they are made (the same
+/// values: the table's are the scalar draws bit for bit).
+pub const DRAWS_AHEAD: u32 = 1;
+
 /// The ray caster needs one shadow ray per light at each shaded point.
 pub fn shadow_rays_per_path(lights: &LightTable) -> usize {
     lights.lights.len().max(1)
@@ -30,6 +36,10 @@ pub fn shade_raycast_hits(
     mut batch: ResMut<PathBatch>,
     mut shadows: ResMut<ShadowBatch>,
 ) {
+    assert!(
+        DRAWS_AHEAD <= inputs.draws_ahead(),
+        "first draws not computed"
+    );
     let scene = inputs.scene();
     shade_live_blocks(&inputs, &mut batch, &mut shadows, |mut block| {
         shade_block(&scene, &mut block);
@@ -56,7 +66,7 @@ fn shade_block(scene: &Scene, block: &mut PathBlock) {
     for (i, hit) in hits.iter().enumerate() {
         if block.is_alive(i)
             && let Some((surface, lobe, throughput)) =
-                shade_hit(scene, hit.as_ref(), block.paths.slots(i))
+                shade_hit(scene, hit.as_ref(), block.paths.slots_reading(i))
         {
             lit.push(LitPoint {
                 path: i,
@@ -79,7 +89,7 @@ fn shade_block(scene: &Scene, block: &mut PathBlock) {
                 let u = if light.is_delta() {
                     Vec2::ZERO
                 } else {
-                    paths.slots(i).rng.next_2d()
+                    paths.slots_reading::<DRAWS_AHEAD>(i).rng.next_2d()
                 };
                 light.sample(surface.position, u)
             }),
@@ -124,7 +134,7 @@ fn gather(
 fn shade_hit(
     scene: &Scene,
     hit: Option<&Hit>,
-    mut path: PathSlots,
+    mut path: PathSlots<'_, DRAWS_AHEAD>,
 ) -> Option<(SurfacePoint, Lobe, Vec3)> {
     let Some(hit) = hit else {
         if let Some((_, environment)) = scene.lights.environment() {

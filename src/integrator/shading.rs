@@ -15,7 +15,7 @@ use crate::material::MaterialTable;
 use crate::material::bump::bumped_normal;
 use crate::material::texture::TextureTable;
 use crate::math::{self, offset_ray_origin};
-use crate::sampling::{FirstDraws, PathDraws, PathRng};
+use crate::sampling::{FirstDraws, PADDED_DRAWS, PathDraws, PathRng};
 use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
@@ -54,8 +54,14 @@ impl ShadingInputs<'_> {
         &self.hits.hit
     }
 
-    fn first_draws(&self) -> &[FirstDraws] {
-        &self.first_draws.0
+    fn first_draws(&self) -> &FirstDrawsTable {
+        &self.first_draws
+    }
+
+    /// How many of a path's first draws the chunk's start computed (`FirstDrawsTable::draws`):
+    /// a stage's paths may read no more ([`PathColumns::slots_reading`]).
+    pub fn draws_ahead(&self) -> u32 {
+        self.first_draws.draws
     }
 }
 
@@ -134,10 +140,11 @@ impl Scene<'_> {
 /// for the chunk, make one [`PathDraws`] per path.
 macro_rules! path_columns {
     ($($field:ident: $ty:ty,)*) => {
-        /// One path's slots in the batch.
-        pub struct PathSlots<'a> {
+        /// One path's slots in the batch, its stream reading the first `AHEAD` of the draws
+        /// computed ahead (see [`PathDraws`]).
+        pub struct PathSlots<'a, const AHEAD: u32 = PADDED_DRAWS> {
             $(pub $field: &'a mut $ty,)*
-            pub rng: PathDraws<'a>,
+            pub rng: PathDraws<'a, AHEAD>,
         }
 
         /// The block's path fields, one slice each, all of one length: the invariant that lets
@@ -158,7 +165,7 @@ macro_rules! path_columns {
             /// blocks of one size, so a block's columns have one length.
             fn par_blocks(
                 hits: &'a [Option<Hit>],
-                first_draws: &'a [FirstDraws],
+                first_draws: &'a FirstDrawsTable,
                 batch: &'a mut PathBatch,
                 size: usize,
             ) -> impl IndexedParallelIterator<Item = (&'a [Option<Hit>], Self)> {
@@ -167,7 +174,7 @@ macro_rules! path_columns {
                     hits[..n].par_chunks(size),
                     $(batch.$field[..n].par_chunks_mut(size),)*
                     batch.rng[..n].par_chunks_mut(size),
-                    first_draws[..n].par_chunks(size),
+                    first_draws.rows[..n].par_chunks(size),
                 )
                     .into_par_iter()
                     .map(|(hits, $($field,)* rng, first_draws)| {
@@ -195,6 +202,14 @@ macro_rules! path_columns {
             /// stack for every path, for the panic's arguments.
             #[inline(always)]
             pub fn slots(&mut self, i: usize) -> PathSlots<'_> {
+                self.slots_reading::<PADDED_DRAWS>(i)
+            }
+
+            /// [`PathColumns::slots`] for a stage whose paths read the first `AHEAD` of the
+            /// draws computed ahead: no more than the table holds, which the stage checks once
+            /// ([`ShadingInputs::draws_ahead`]) rather than here, path by path.
+            #[inline(always)]
+            pub fn slots_reading<const AHEAD: u32>(&mut self, i: usize) -> PathSlots<'_, AHEAD> {
                 let n = self.len();
                 assert!(i < n, "a path's slot is within its block");
                 debug_assert!(
@@ -230,7 +245,7 @@ path_columns! {
     alive: bool,
 }
 
-impl PathSlots<'_> {
+impl<const AHEAD: u32> PathSlots<'_, AHEAD> {
     /// Adds `light` to the path's radiance; a non-finite value (a bug, never a feature of the
     /// scene) is dropped rather than let through to the film.
     pub fn add_radiance(&mut self, light: Vec3) {

@@ -34,8 +34,25 @@ pub struct CameraSampling {
 /// `sampling::PathDraws`): computed many paths at a time here rather than one at a time where
 /// shading makes them. Sized to the chunk; left stale for the plain samplers, whose paths make
 /// no padded draw.
-#[derive(Resource, Default)]
-pub struct FirstDrawsTable(pub Vec<FirstDraws>);
+#[derive(Resource)]
+pub struct FirstDrawsTable {
+    /// How many of a path's first draws are computed (1 to [`PADDED_DRAWS`]): those its
+    /// integrator's first vertex makes for every path (see `Renderer::new`); the others are
+    /// made where drawn.
+    pub draws: u32,
+    pub rows: Vec<FirstDraws>,
+}
+
+impl FirstDrawsTable {
+    /// An empty table for paths whose first `draws` draws are to be computed ahead.
+    pub fn new(draws: u32) -> Self {
+        assert!((1..=PADDED_DRAWS).contains(&draws), "{draws} first draws");
+        Self {
+            draws,
+            rows: Vec::new(),
+        }
+    }
+}
 
 /// Sampler dimensions: the film position, then the lens (drawn by the lens stage, if any).
 pub const FILM_DIMENSION: u32 = 0;
@@ -64,8 +81,9 @@ pub fn start_pass(
     let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
+    let draws_ahead = first_draws.draws;
     first_draws
-        .0
+        .rows
         .resize(chunk.count as usize, FirstDraws::default());
     // Blocks of paths, each a plain loop over its slices: the sampled fields path by path,
     // the constant ones filled (vector stores), rather than rayon zipping nine fields per path.
@@ -79,7 +97,7 @@ pub fn start_pass(
         batch.pass_through.par_chunks_mut(BLOCK),
         batch.scatter_pdf.par_chunks_mut(BLOCK),
         batch.alive.par_chunks_mut(BLOCK),
-        first_draws.0.par_chunks_mut(BLOCK),
+        first_draws.rows.par_chunks_mut(BLOCK),
     )
         .into_par_iter()
         .enumerate()
@@ -128,7 +146,7 @@ pub fn start_pass(
                     }
                 }
                 if padded_draws > 0 {
-                    FirstDraws::compute(rng, draws);
+                    FirstDraws::compute(rng, draws, draws_ahead);
                 }
                 throughput.fill(Vec3::ONE);
                 radiance.fill(Vec3::ZERO);
