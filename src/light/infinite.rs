@@ -586,7 +586,10 @@ impl Environment {
         self.pdf_at(point, compensated)
     }
 
-    /// The density at a direction's `point` on the map (none for a constant sky).
+    /// The density at a direction's `point` on the map (none for a constant sky). Inline: out
+    /// of line, its call for each escaped ray took 0.8 % more instructions of the envmap
+    /// scene's render.
+    #[inline]
     fn pdf_at(&self, point: Option<MapPoint>, compensated: bool) -> f32 {
         match (&self.map, point) {
             (Some(map), Some(point)) => {
