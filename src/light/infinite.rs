@@ -779,19 +779,29 @@ mod tests {
     }
 
     /// The lookup in lanes is the scalar one to the bit (radiance, sin theta, cell and
-    /// fractions) under a rotated sky, for directions all over the sphere, along the seam, at
-    /// the poles, on the axes, unnormalised, zero and not finite; a lane's operation out of
-    /// order or a select the wrong way round moves some bits.
+    /// fractions) on a map of distinct texels under a sky rotated about all three axes (a
+    /// rotation about one leaves zeros that hid the rotation's sum reassociated, tried), for
+    /// directions all over the sphere, along the seam, at the poles, on the axes, unnormalised,
+    /// zero and not finite; a lane's operation out of order or a select the wrong way round
+    /// moves some bits.
     #[test]
     fn lookup_in_lanes_is_the_scalar_lookup_to_the_bit() {
-        let sky = banded_sky();
+        let texels = (0..64 * 32)
+            .map(|i| Vec3::new(((i * 7919) % 13) as f32 + 0.25, (i % 64) as f32, 1.0))
+            .collect();
+        let light_to_world =
+            Mat3::from_rotation_y(0.6) * Mat3::from_rotation_x(0.3) * Mat3::from_rotation_z(0.2);
+        let sky = Environment::new(&InfiniteLight {
+            radiance: Vec3::new(1.5, 1.0, 0.5),
+            map: Some(image_of(64, 32, texels)),
+            light_to_world,
+        });
         let mut directions: Vec<Vec3> = (0..4000)
             .map(|k| {
                 let (u, v) = ((k as f32 * 0.618_034).fract(), (k as f32 + 0.5) / 4000.0);
                 uv_to_direction(Vec2::new(u, v)).0 * (1.0 + (k % 3) as f32)
             })
             .collect();
-        let light_to_world = Mat3::from_rotation_x(0.3);
         for k in 0..200 {
             let seam = uv_to_direction(Vec2::new(0.5 / 64.0, k as f32 / 200.0)).0;
             directions.extend([light_to_world * seam, light_to_world * -seam]);
