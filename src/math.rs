@@ -97,7 +97,7 @@ pub fn atan2_lanes(y: Vec4, x: Vec4) -> Vec4 {
 /// has SSE4.1 (the x86-64-v3 and native builds), where glam's and, and-not and or stay three
 /// instructions; the same lanes for masks from comparisons (each lane's bits all set or none).
 #[inline]
-fn select_lanes(mask: BVec4A, if_true: Vec4, if_false: Vec4) -> Vec4 {
+pub(crate) fn select_lanes(mask: BVec4A, if_true: Vec4, if_false: Vec4) -> Vec4 {
     #[cfg(all(target_arch = "x86_64", target_feature = "sse4.1"))]
     {
         // SAFETY: the build enables SSE4.1.

@@ -9,6 +9,7 @@ use glam::Vec3;
 use super::batch::{PathBatch, ShadowBatch};
 use super::conductor_lanes::ConductorQueue;
 use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LampPoint, LightPoint, VertexLight};
+use super::escaped_lanes::EscapedQueue;
 use super::glass_lanes::{GlassQueue, GlassVertex};
 use super::lanes::QueuedSurface;
 use super::shading::{
@@ -16,6 +17,7 @@ use super::shading::{
 };
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, unit_direction};
+use crate::light::infinite::{Environment, SkyLookup};
 use crate::light::{Light, LightTable};
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
@@ -28,9 +30,10 @@ pub fn shade_path_vertices(
 ) {
     let scene = inputs.scene();
     shade_live_blocks(&inputs, &mut batch, &mut shadows, |mut block| {
-        // The block's diffuse, rough conductor and glass vertices wait in queues, in block order, and
-        // are finished eight at a time; every other vertex is shaded where it stands. Each
-        // path's result depends on its own slots only, so the order of the work changes no bit.
+        // The block's diffuse, rough conductor and glass vertices and its rays that escaped
+        // under an environment map wait in queues, in block order, and are finished eight at a
+        // time; every other vertex is shaded where it stands. Each path's result depends on its
+        // own slots only, so the order of the work changes no bit.
         let mut queues = Queues::default();
         let hits = block.hits;
         for (i, hit) in hits.iter().enumerate() {
@@ -52,25 +55,31 @@ pub fn shade_path_vertices(
             if queues.glass.is_full() {
                 queues.glass.finish(&mut block.reborrow());
             }
+            if queues.escaped.is_full() {
+                queues.escaped.finish(&scene, &mut block.paths);
+            }
         }
         queues.diffuse.finish(&mut block, scene.rr_depth);
         queues.conductor.finish(&mut block, scene.rr_depth);
         queues.glass.finish(&mut block);
+        queues.escaped.finish(&scene, &mut block.paths);
     });
 }
 
-/// The vertices of a block waiting to be finished in lanes, by BSDF.
+/// The vertices of a block waiting to be finished in lanes, by BSDF, and its escaped rays.
 #[derive(Default)]
 struct Queues<'a> {
     diffuse: DiffuseQueue<'a>,
     conductor: ConductorQueue<'a>,
     glass: GlassQueue,
+    escaped: EscapedQueue,
 }
 
 /// Shades the vertex of the block's path `slot` (of `paths`) where it stands (returning its
 /// shadow ray, if any), or, at a Lambertian surface, an isotropic GGX conductor or smooth
 /// glass, draws its random numbers (and light sample) and queues it in `queues`, for
-/// [`DiffuseQueue::finish`], [`ConductorQueue::finish`] or [`GlassQueue::finish`]. Kept out of
+/// [`DiffuseQueue::finish`], [`ConductorQueue::finish`] or [`GlassQueue::finish`]; a ray that
+/// escaped under an environment map waits for [`EscapedQueue::finish`]. Kept out of
 /// line: the build that LLVM inlined it into the block's loop (with a third queue; and
 /// `finish_lanes` passed as a function, not a closure) took 3 to 4 % more instructions. Takes
 /// the columns, not the path's slots: the loop stored the slots' eleven references to the
@@ -89,21 +98,16 @@ fn shade_vertex<'a>(
     // is an emitter, its reflection included, and one that leaves the scene unscattered.
     let hidden = scene.hide_emitters && *path.depth == 0;
     let Some(hit) = hit else {
-        if let Some((index, environment)) = lights.environment().filter(|_| !hidden) {
-            let sky = environment.look_up(*path.direction);
-            let weight = emission_weight(lights, *path.scatter_pdf, index, || {
-                environment.pdf_for_mis_of(&sky)
-            });
-            path.add_radiance(*path.throughput * sky.radiance * weight);
+        let environment = lights.environment().filter(|_| !hidden);
+        if let Some((_, environment)) = environment
+            && !environment.is_constant()
+        {
+            queues.escaped.push(slot, *path.direction);
+            return None;
         }
-        for (index, sun) in lights.sun_discs().filter(|_| !hidden) {
-            let light = sun.radiance_towards(*path.direction);
-            if light != Vec3::ZERO {
-                let weight = emission_weight(lights, *path.scatter_pdf, index, || sun.pdf());
-                path.add_radiance(*path.throughput * light * weight);
-            }
-        }
-        *path.alive = false;
+        let sky = environment
+            .map(|(index, environment)| (index, environment, environment.look_up(*path.direction)));
+        shade_escaped(lights, &mut path, sky, hidden);
         return None;
     };
     let mut surface = scene
@@ -166,6 +170,32 @@ fn shade_vertex<'a>(
         return None;
     }
     shade_scattering(scene, &surface, bsdf, wo, path)
+}
+
+/// A path whose ray escaped: the environment's light `sky` (its index, the light and its
+/// lookup along the ray), then the sun discs' unless `hidden`, each MIS-weighted against
+/// light sampling; the path ends.
+#[inline(always)]
+pub(super) fn shade_escaped(
+    lights: &LightTable,
+    path: &mut PathSlots,
+    sky: Option<(usize, &Environment, SkyLookup)>,
+    hidden: bool,
+) {
+    if let Some((index, environment, sky)) = sky {
+        let weight = emission_weight(lights, *path.scatter_pdf, index, || {
+            environment.pdf_for_mis_of(&sky)
+        });
+        path.add_radiance(*path.throughput * sky.radiance * weight);
+    }
+    for (index, sun) in lights.sun_discs().filter(|_| !hidden) {
+        let light = sun.radiance_towards(*path.direction);
+        if light != Vec3::ZERO {
+            let weight = emission_weight(lights, *path.scatter_pdf, index, || sun.pdf());
+            path.add_radiance(*path.throughput * light * weight);
+        }
+    }
+    *path.alive = false;
 }
 
 /// The light sample and the BSDF sample at a scattering vertex, Russian roulette after.
