@@ -130,18 +130,29 @@ macro_rules! path_batch {
                 )
             }
 
-            /// One pass over `order`, each slot's fields moved together (one read of the slot
-            /// number and one loop for all fields, not one per field). The columns are resliced
-            /// to their common lengths first, so that one comparison per slot stands for every
-            /// column's bounds check.
-            fn gather(self, order: &[u32]) {
-                let n = self.sources.camera_path.len();
-                let live = order.len();
+            /// Run by run, each run in groups of [`GROUP`] slots, all the group's fields
+            /// together: a group of a column is one or a few vector moves, where slot by slot
+            /// each of its lanes was a load and a store. A run's last group may reach past its
+            /// end, into the next runs' targets, which are written after it, in order; where it
+            /// would leave the task's targets (at its last run) or the columns, the run's tail
+            /// goes slot by slot. The columns are resliced to their common lengths first, so
+            /// that one comparison per group stands for every column's bounds checks.
+            fn gather(self, runs: &[Run]) {
+                let (n, live) = (self.sources.camera_path.len(), self.targets.camera_path.len());
                 $(let $field = (&self.sources.$field[..n], &mut self.targets.$field[..live]);)*
-                for (i, &slot) in order.iter().enumerate() {
-                    let slot = slot as usize;
-                    assert!(slot < n, "a live path's slot is within the batch");
-                    $($field.1[i] = $field.0[slot].clone();)*
+                let mut target = 0;
+                for run in runs {
+                    let (mut from, mut to) = (run.from as usize, target);
+                    let (from_end, to_end) = (from + run.len as usize, target + run.len as usize);
+                    assert!(from_end <= n && to_end <= live, "the run is within the columns");
+                    while from < from_end && to + GROUP <= live && from + GROUP <= n {
+                        $(copy_group($field.0, from, $field.1, to);)*
+                        (from, to) = (from + GROUP, to + GROUP);
+                    }
+                    for (to, from) in (to..to_end).zip(from..from_end) {
+                        $($field.1[to] = $field.0[from].clone();)*
+                    }
+                    target = to_end;
                 }
             }
         }
@@ -222,14 +233,31 @@ impl PathBatch {
 
 /// A stable partition of the slots into live and finished: each block of slots counts its live
 /// paths, a prefix sum over the counts gives every block its place among the live and among the
-/// finished, and the blocks then write, in parallel, the live paths' slot numbers and the
-/// finished paths' film samples there.
+/// finished, and the blocks then move, in parallel, the live paths and write the finished
+/// paths' film samples there.
 #[derive(Default)]
 struct Partition {
     /// Live counts per block.
     counts: Vec<usize>,
-    /// Slot numbers of the live paths, in order.
-    order: Vec<u32>,
+    /// The runs of live slots (scratch: at most one a live slot, in order).
+    runs: Vec<Run>,
+}
+
+/// A run of consecutive live slots: its first slot and length. The runs of a task move to
+/// consecutive targets.
+#[derive(Clone, Copy, Default)]
+struct Run {
+    from: u32,
+    len: u32,
+}
+
+/// Slots a run is copied by at a time (see `GatherLive::gather`).
+const GROUP: usize = 8;
+
+/// Copies `GROUP` slots of a column from `from` on to `to` on.
+#[inline(always)]
+fn copy_group<T: Clone>(source: &[T], from: usize, target: &mut [T], to: usize) {
+    target[to..to + GROUP].clone_from_slice(&source[from..from + GROUP]);
 }
 
 /// Slots per block of the partition: small enough to share among threads, large enough that
@@ -261,11 +289,11 @@ impl Partition {
         if live == alive.len() {
             return live;
         }
-        // Both only grow (to the chunk's size, over the first chunk), and only `order`'s first
+        // Both only grow (to the chunk's size, over the first chunk), and only `runs`' first
         // `live` and `finished`'s first `finished_end` entries are used: setting their lengths
         // anew at every bounce would write each entry on one thread before the parallel writes
         // below.
-        grow(&mut self.order, live, 0);
+        grow(&mut self.runs, live, Run::default());
         let placeholder = FilmSample {
             pixel: 0,
             position: Vec2::ZERO,
@@ -279,7 +307,7 @@ impl Partition {
             first: 0,
         };
         slots.write(
-            &mut self.order[..live],
+            &mut self.runs[..live],
             &mut finished[first_finished..finished_end],
             sample,
             gather_to(live),
@@ -297,37 +325,50 @@ struct Slots<'a> {
 }
 
 impl Slots<'_> {
-    /// Writes the numbers of the live slots to `live` (scratch, one entry per live slot) and
-    /// has `target` gather those paths; writes the film samples of the others to `finished`; all
-    /// in order. Halves the blocks between two tasks until one is left.
+    /// Writes the runs of live slots to `runs` (scratch, one entry per live slot) and has
+    /// `target` gather those paths; writes the film samples of the others to `finished`; all in
+    /// order. Halves the blocks between two tasks until one is left.
     fn write(
         self,
-        live: &mut [u32],
+        runs: &mut [Run],
         finished: &mut [FilmSample],
         sample: &(impl Fn(usize) -> FilmSample + Sync),
         target: impl GatherLive,
     ) {
         if self.counts.len() <= 1 {
-            let (mut l, mut f) = (0, 0);
-            for (i, &a) in self.alive.iter().enumerate() {
-                let slot = self.first + i;
-                if a {
-                    live[l] = slot as u32;
-                    l += 1;
-                } else {
-                    finished[f] = sample(slot);
+            let (alive, m) = (self.alive, self.alive.len());
+            let (mut slot, mut r, mut f) = (0, 0, 0);
+            while slot < m {
+                let start = alive[slot..]
+                    .iter()
+                    .position(|&a| a)
+                    .map_or(m, |s| slot + s);
+                for dead in slot..start {
+                    finished[f] = sample(self.first + dead);
                     f += 1;
                 }
+                if start == m {
+                    break;
+                }
+                let end = alive[start..]
+                    .iter()
+                    .position(|&a| !a)
+                    .map_or(m, |e| start + e);
+                runs[r] = Run {
+                    from: (self.first + start) as u32,
+                    len: (end - start) as u32,
+                };
+                (slot, r) = (end, r + 1);
             }
-            target.gather(live);
+            target.gather(&runs[..r]);
             return;
         }
         let half = self.counts.len() / 2;
         let split = half * PARTITION_BLOCK;
-        let live_left = self.counts[..half].iter().sum();
-        let (live_left, live_right) = live.split_at_mut(live_left);
-        let (finished_left, finished_right) = finished.split_at_mut(split - live_left.len());
-        let (target_left, target_right) = target.split_at(live_left.len());
+        let live_left: usize = self.counts[..half].iter().sum();
+        let (runs_left, runs_right) = runs.split_at_mut(live_left);
+        let (finished_left, finished_right) = finished.split_at_mut(split - live_left);
+        let (target_left, target_right) = target.split_at(live_left);
         let left = Slots {
             alive: &self.alive[..split],
             counts: &self.counts[..half],
@@ -339,8 +380,8 @@ impl Slots<'_> {
             first: self.first + split,
         };
         rayon::join(
-            || left.write(live_left, finished_left, sample, target_left),
-            || right.write(live_right, finished_right, sample, target_right),
+            || left.write(runs_left, finished_left, sample, target_left),
+            || right.write(runs_right, finished_right, sample, target_right),
         );
     }
 }
@@ -350,8 +391,8 @@ impl Slots<'_> {
 trait GatherLive: Send + Sized {
     /// The targets of the first `mid` live paths and of the rest.
     fn split_at(self, mid: usize) -> (Self, Self);
-    /// Moves the paths at `order`'s slots, in order, to the target's slots.
-    fn gather(self, order: &[u32]);
+    /// Moves the paths of `runs`, in order, to the target's slots.
+    fn gather(self, runs: &[Run]);
 }
 
 /// Closest hits of the path rays, slot for slot: the first `PathBatch::len` slots are this
@@ -531,6 +572,43 @@ mod tests {
             handed,
             vec![(threes, vec![threes_len]), (rest, vec![rest_len])]
         );
+    }
+
+    /// Runs of live slots of every length from 1 to past two groups, apart by gaps of 1 to 3
+    /// finished ones, then a block where all live: each run's groups that reach past its end
+    /// are overwritten by the next runs, and the tasks' last runs end slot by slot.
+    #[test]
+    fn retire_moves_runs_of_every_length() {
+        let n = 3 * PARTITION_BLOCK;
+        let mut alive = vec![true; n];
+        let (mut slot, mut len) = (0, 1);
+        while slot < 2 * PARTITION_BLOCK {
+            let gap = slot + len..slot + len + 1 + len % 3;
+            alive[gap.clone()].fill(false);
+            (slot, len) = (gap.end, len % (2 * GROUP + 3) + 1);
+        }
+        let expected: Vec<u32> = (0..n as u32).filter(|&i| alive[i as usize]).collect();
+        for threads in [1, 2] {
+            let mut batch = PathBatch::default();
+            batch.resize(n);
+            for i in 0..n {
+                batch.pixel[i] = i as u32;
+                batch.depth[i] = 7 * i as u32;
+                batch.origin[i] = Vec3::new(i as f32, 1.0, -(i as f32));
+            }
+            batch.alive.copy_from_slice(&alive);
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let live = pool.install(|| batch.retire(|_, _| {}));
+            assert_eq!(pixels_at(&batch, live), expected);
+            for i in 0..live {
+                let path = pixel_at(&batch, i);
+                assert_eq!(batch.depth[i], 7 * path);
+                assert_eq!(batch.origin[i], Vec3::new(path as f32, 1.0, -(path as f32)));
+            }
+        }
     }
 
     #[test]
