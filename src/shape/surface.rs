@@ -45,21 +45,26 @@ impl SceneGeometry {
                 // `sphere_surface`'s normal, to the bit.
                 let position = *origin + *direction * hit.t;
                 let n = normalize_or(position + translation, Vec3::Z);
-                return SurfacePoint {
-                    position,
-                    geometric_normal: n,
-                    shading_normal: n,
-                    uv: Vec2::ZERO,
-                    material: self.material[prim],
-                    emitter: self.emitter[prim],
-                    prim: hit.prim,
-                };
+                return self.point_at(hit, (n, n, Vec2::ZERO), position);
             }
             return self.other_surface_point(hit, origin, direction);
         };
-        let (geometric_normal, shading_normal, uv) = self.triangle_surface(prim, ng, hit.u, hit.v);
+        let surface = self.triangle_surface(prim, ng, hit.u, hit.v);
+        self.point_at(hit, surface, *origin + *direction * hit.t)
+    }
+
+    /// The surface point of `hit` with its (geometric normal, shading normal, uv), at `position`.
+    /// Inlined into each kind's branch, which then builds the point in place.
+    #[inline(always)]
+    fn point_at(
+        &self,
+        hit: &Hit,
+        (geometric_normal, shading_normal, uv): (Vec3, Vec3, Vec2),
+        position: Vec3,
+    ) -> SurfacePoint {
+        let prim = hit.prim as usize;
         SurfacePoint {
-            position: *origin + *direction * hit.t,
+            position,
             geometric_normal,
             shading_normal,
             uv,
@@ -72,10 +77,9 @@ impl SceneGeometry {
     /// [`SceneGeometry::surface_point`] on anything but a world triangle.
     #[inline(never)]
     fn other_surface_point(&self, hit: &Hit, origin: &Vec3, direction: &Vec3) -> SurfacePoint {
-        let prim = hit.prim as usize;
         let position = *origin + *direction * hit.t;
         let kind = (self.ids.decode(hit.prim)).expect("the accel reports only its own ids");
-        let (geometric_normal, shading_normal, uv) = match kind {
+        let surface = match kind {
             PrimitiveRef::Triangle(i) => {
                 self.triangle_surface(i, self.face_normals[i], hit.u, hit.v)
             }
@@ -106,15 +110,7 @@ impl SceneGeometry {
                 (n, n, uv)
             }
         };
-        SurfacePoint {
-            position,
-            geometric_normal,
-            shading_normal,
-            uv,
-            material: self.material[prim],
-            emitter: self.emitter[prim],
-            prim: hit.prim,
-        }
+        self.point_at(hit, surface, position)
     }
 
     /// World triangle `i`'s surface, `ng` its face normal.
