@@ -339,10 +339,7 @@ impl Slots<'_> {
             let (alive, m) = (self.alive, self.alive.len());
             let (mut slot, mut r, mut f) = (0, 0, 0);
             while slot < m {
-                let start = alive[slot..]
-                    .iter()
-                    .position(|&a| a)
-                    .map_or(m, |s| slot + s);
+                let start = first_flag(alive, slot, true);
                 for dead in slot..start {
                     finished[f] = sample(self.first + dead);
                     f += 1;
@@ -350,10 +347,7 @@ impl Slots<'_> {
                 if start == m {
                     break;
                 }
-                let end = alive[start..]
-                    .iter()
-                    .position(|&a| !a)
-                    .map_or(m, |e| start + e);
+                let end = first_flag(alive, start, false);
                 runs[r] = Run {
                     from: (self.first + start) as u32,
                     len: (end - start) as u32,
@@ -384,6 +378,24 @@ impl Slots<'_> {
             || right.write(runs_right, finished_right, sample, target_right),
         );
     }
+}
+
+/// The first slot from `from` on whose flag is `value` (`alive.len()` if none), eight flags at
+/// a time as the bytes of a word (a `bool` is one byte, 0 or 1): the lowest byte that differs
+/// from the other value's is the word's lowest set bit over 8.
+#[inline(always)]
+fn first_flag(alive: &[bool], from: usize, value: bool) -> usize {
+    let other = if value { 0 } else { u64::from_le_bytes([1; 8]) };
+    let mut i = from;
+    while let Some(flags) = alive.get(i..i + 8) {
+        let bytes: [bool; 8] = flags.try_into().expect("eight flags");
+        let differing = u64::from_le_bytes(bytes.map(u8::from)) ^ other;
+        if differing != 0 {
+            return i + differing.trailing_zeros() as usize / 8;
+        }
+        i += 8;
+    }
+    (alive[i..].iter().position(|&a| a == value)).map_or(alive.len(), |k| i + k)
 }
 
 /// Where a run of partition blocks moves its live paths (the spare columns' slots for them),
@@ -572,6 +584,25 @@ mod tests {
             handed,
             vec![(threes, vec![threes_len]), (rest, vec![rest_len])]
         );
+    }
+
+    #[test]
+    fn first_flag_is_the_first_slot_with_the_value() {
+        // Every pattern of 12 flags (a word and a tail, or a tail alone), from every start.
+        const N: usize = 12;
+        for pattern in 0u32..1 << N {
+            let alive: Vec<bool> = (0..N).map(|k| pattern >> k & 1 == 1).collect();
+            for from in 0..=N {
+                for value in [false, true] {
+                    let expected = (from..N).find(|&k| alive[k] == value).unwrap_or(N);
+                    assert_eq!(
+                        first_flag(&alive, from, value),
+                        expected,
+                        "{alive:?} {from}"
+                    );
+                }
+            }
+        }
     }
 
     /// Runs of live slots of every length from 1 to past two groups, apart by gaps of 1 to 3
