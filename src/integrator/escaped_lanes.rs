@@ -4,11 +4,11 @@
 //! cell) runs in lanes ([`Environment::look_up_lanes`]); each path's radiance is then added
 //! where it stands, in the order the scalar vertex adds it (so the same bits).
 
-use super::lanes::{LANES, V8};
 use super::shade_path::shade_escaped;
 use super::shading::{PathColumns, Scene};
 #[cfg(doc)]
 use crate::light::infinite::Environment;
+use crate::light::infinite::{DirectionLanes, LANES};
 
 /// A block's paths whose ray escaped, waiting for the environment map's lookup, with their
 /// directions.
@@ -16,7 +16,7 @@ use crate::light::infinite::Environment;
 pub struct EscapedQueue {
     len: usize,
     slots: [usize; LANES],
-    directions: V8,
+    directions: DirectionLanes,
 }
 
 impl EscapedQueue {
@@ -28,7 +28,8 @@ impl EscapedQueue {
     #[inline(always)]
     pub fn push(&mut self, slot: usize, direction: glam::Vec3) {
         self.slots[self.len] = slot;
-        self.directions.set(self.len, direction);
+        let (n, d) = (self.len, &mut self.directions);
+        (d[0][n], d[1][n], d[2][n]) = (direction.x, direction.y, direction.z);
         self.len += 1;
     }
 

@@ -16,7 +16,6 @@ use glam::{Mat3, Mat3A, Vec2, Vec3, Vec3A, Vec4};
 
 use super::LightSample;
 use crate::film::luminance;
-use crate::integrator::lanes::{F8, LANES, V8};
 use crate::material::texture::ImageTexture;
 use crate::math;
 use crate::sampling::warp::{uniform_sphere, uniform_sphere_pdf};
@@ -218,13 +217,11 @@ impl EnvironmentMap {
         }
     }
 
-    /// [`EnvironmentMap::point_of`] of eight directions (`directions`' lanes), four at a time
+    /// [`EnvironmentMap::point_of`] of eight directions, four at a time
     /// ([`EnvironmentMap::points_of_four`]).
-    fn points_of_lanes(&self, directions: &V8) -> [MapPoint; LANES] {
-        let quarter = |lanes: &F8, half: usize| Vec4::from_slice(&lanes.0[4 * half..][..4]);
+    fn points_of_lanes(&self, directions: &DirectionLanes) -> [MapPoint; LANES] {
         let half = |half: usize| {
-            let d = directions;
-            self.points_of_four([d.x, d.y, d.z].map(|lanes| quarter(&lanes, half)))
+            self.points_of_four(directions.map(|axis| Vec4::from_slice(&axis[4 * half..][..4])))
         };
         let (first, second) = (half(0), half(1));
         std::array::from_fn(|lane| {
@@ -413,6 +410,12 @@ pub struct SkyLookup {
     point: Option<MapPoint>,
 }
 
+/// Directions looked up together by [`Environment::look_up_lanes`].
+pub const LANES: usize = 8;
+
+/// [`LANES`] directions: their x, y and z components, an array of each.
+pub type DirectionLanes = [[f32; LANES]; 3];
+
 /// Eight escaped rays' points on the map ([`Environment::look_up_lanes`]).
 pub struct SkyLanes<'a> {
     radiance: Vec3,
@@ -491,11 +494,11 @@ impl Environment {
         }
     }
 
-    /// [`Environment::look_up`] of eight directions (`directions`' lanes), to the bit, for a
+    /// [`Environment::look_up`] of eight directions, to the bit, for a
     /// sky with a map (none for a constant one, which has nothing to look up): where they meet
     /// the map, found in lanes; each lane's radiance is read when asked for
     /// ([`SkyLanes::look_up`]), so that the eight lookups are not held at once.
-    pub fn look_up_lanes(&self, directions: &V8) -> Option<SkyLanes<'_>> {
+    pub fn look_up_lanes(&self, directions: &DirectionLanes) -> Option<SkyLanes<'_>> {
         let map = self.map.as_ref()?;
         Some(SkyLanes {
             radiance: self.radiance,
@@ -830,9 +833,9 @@ mod tests {
             )
         };
         for chunk in directions.chunks(LANES) {
-            let mut lanes = V8::default();
-            for (lane, &d) in chunk.iter().enumerate() {
-                lanes.set(lane, d);
+            let mut lanes = DirectionLanes::default();
+            for (lane, d) in chunk.iter().enumerate() {
+                (lanes[0][lane], lanes[1][lane], lanes[2][lane]) = (d.x, d.y, d.z);
             }
             let got = sky.look_up_lanes(&lanes).expect("a map");
             for (lane, &d) in chunk.iter().enumerate() {
