@@ -22,7 +22,7 @@
 
 use std::cell::RefCell;
 
-use glam::{Mat3A, Vec3, Vec3A};
+use glam::{Vec3, Vec3A};
 
 #[cfg(target_arch = "x86_64")]
 use super::coplanar::RayScale;
@@ -32,7 +32,7 @@ use super::disk::Disk;
 use super::lanes::{L8, L16, Lanes};
 use super::pass_through::{MAX_LAYERS, PassThrough};
 use super::plane::Plane;
-use super::sphere::sphere_bounds;
+use super::sphere::{sphere_bounds, translation_only};
 use super::triangle::triangle_bounds;
 use super::{Hit, SphereInstance};
 
@@ -515,7 +515,7 @@ impl Flat {
                 ];
                 FlatSphere {
                     rows: [0, 1, 2].map(|i| columns.map(|column| column[i])),
-                    translation: (m.matrix3 == Mat3A::IDENTITY).then(|| m.translation.to_array()),
+                    translation: translation_only(&m).map(|t| t.to_array()),
                     radius: s.radius,
                     id: sphere_id(i),
                 }

@@ -43,6 +43,7 @@ use instances::Instances;
 pub use pass_through::PassThrough;
 use plane::Plane;
 pub use primitive::{PrimitiveIds, PrimitiveRef};
+pub use sphere::translation_only;
 
 /// A sphere of `radius` around the origin of its object space, placed by `object_to_world` (any
 /// affine map: a non-uniform scale makes an ellipsoid).

@@ -9,7 +9,7 @@
 //! structure of arrays, one SIMD lane per sphere (as [`super::triangle::Triangle4`] does for
 //! triangles), so that a leaf of two to four spheres costs one test, not one per sphere.
 
-use glam::{Affine3A, Vec3A, Vec4};
+use glam::{Affine3A, Mat3A, Vec3A, Vec4};
 
 use super::SphereInstance;
 use super::aabb::Aabb;
@@ -31,6 +31,13 @@ pub(crate) fn sphere_bounds(instance: &SphereInstance) -> Option<Aabb> {
         max: Vec3A::splat(r),
     };
     Some(local.transformed(m)).filter(Aabb::is_finite)
+}
+
+/// The translation of a sphere's `world_to_object` map if that is all the map does (its linear
+/// part the identity: a sphere given by centre and radius), for the tests and surface points
+/// that then add it rather than multiply by the identity.
+pub fn translation_only(world_to_object: &Affine3A) -> Option<Vec3A> {
+    (world_to_object.matrix3 == Mat3A::IDENTITY).then_some(world_to_object.translation)
 }
 
 /// Up to four spheres of radius `radius` around the origin of the object space that

@@ -14,7 +14,7 @@ use super::{
 };
 use crate::accel::{
     Accel, DiskInstance, MeshInstance, PassThrough, PlaneInstance, PrimitiveIds, PrimitiveRef,
-    Primitives, SphereInstance,
+    Primitives, SphereInstance, translation_only,
 };
 use crate::material::MaterialTable;
 
@@ -204,8 +204,7 @@ pub fn build_scene_geometry(
             object_to_world: sphere.object_to_world,
             world_to_object,
             normal_to_world: world_to_object.matrix3.transpose(),
-            translation_only: (world_to_object.matrix3 == Mat3A::IDENTITY)
-                .then(|| world_to_object.translation.into()),
+            translation_only: translation_only(&world_to_object).map(Vec3::from),
             radius: sphere.radius,
             uv: needs.uvs && materials.fixed_bsdf(surface.0).is_none(),
         });
