@@ -47,7 +47,7 @@ use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
 /// batch state per path (twice, with the compaction's spare columns), plus its hit and shadow
-/// ray, a chunk of 16k keeps its batches within about 4 MB. Measured (README, Speed) from 4k to
+/// ray, a chunk of 16k keeps its batches within about 4 MB. Measured (docs/speed.md) from 4k to
 /// 64k on the three peer scenes: callgrind's cache simulation has 4k and 8k miss a 512 KB L2
 /// 12 % to 38 % less than 16k for the same instructions, but on a quiet machine at 2 threads
 /// 16k was faster than 8k in all six scene-rounds (more work per stage to share between the
