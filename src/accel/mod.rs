@@ -514,7 +514,7 @@ impl Accel {
     }
 
     /// [`Accel::any_hits_chunk`] with each of the `stride` interleaved sequences of rays cut
-    /// into runs of coherent rays ([`shadow_packet::coherent_shadow_run`]) traced through the
+    /// into runs of coherent rays ([`shadow_packet::ShadowPacket::gather`]) traced through the
     /// world tree as packets, the others one by one. Each ray of a packet meets the planes and
     /// disks first and the instances last, as in [`Accel::find_any`].
     #[cfg(target_arch = "x86_64")]
@@ -534,11 +534,18 @@ impl Accel {
             None => self.find_any(origins[k], dirs[k], t_min, t_maxs[k]),
             Some(pass) => self.find_any_opaque(origins[k], dirs[k], t_min, t_maxs[k], pass),
         };
+        let beside_trees = !(self.planes.is_empty() && self.disks.is_empty());
         for first in 0..stride.min(n) {
             let mut i = first;
             while i < n {
+                // An empty slot (a point the light does not reach) has no ray to trace.
+                if !(t_min < t_maxs[i]) {
+                    occluded[i] = false;
+                    i += stride;
+                    continue;
+                }
                 let rays = (origins, dirs, t_maxs);
-                let run = shadow_packet::coherent_shadow_run(rays, t_min, i, stride, n);
+                let (packet, run) = shadow_packet::ShadowPacket::gather(rays, t_min, i, stride, n);
                 if run < packet::MIN_PACKET {
                     for lane in 0..run.max(1) {
                         let k = i + lane * stride;
@@ -548,28 +555,25 @@ impl Accel {
                     continue;
                 }
                 let lanes = (0..run).map(|lane| i + lane * stride);
-                let packet = shadow_packet::ShadowPacket::new(origins, dirs, lanes.clone());
-                let mut t_max = [t_min; packet::PACKET_SIZE];
                 let mut hit = 0;
-                for (lane, k) in lanes.clone().enumerate() {
-                    t_max[lane] = t_maxs[k];
-                    let (o, d) = (packet.origins[lane], packet.dirs[lane]);
-                    hit |= (self.any_beside_trees(o, d, t_min, t_max[lane]) as u32) << lane;
+                if beside_trees {
+                    for (lane, k) in lanes.clone().enumerate() {
+                        let (o, d) = (origins[k].into(), dirs[k].into());
+                        hit |= (self.any_beside_trees(o, d, t_min, t_maxs[k]) as u32) << lane;
+                    }
                 }
                 let active = ((1 << run) - 1) & !hit;
                 if active != 0 {
-                    hit |= self
-                        .world
-                        .find_shadow_packet(&packet, active, t_min, &t_max);
+                    hit |= (self.world).find_shadow_packet(&packet, active, t_min, &packet.t_max);
                 }
                 for (lane, k) in lanes.enumerate() {
-                    let (o, d) = (packet.origins[lane], packet.dirs[lane]);
+                    let (o, d) = (origins[k].into(), dirs[k].into());
                     let blocked = hit & (1 << lane) != 0
                         || (self.instances).find::<true>(
                             o,
                             d,
                             t_min,
-                            &mut { t_max[lane] },
+                            &mut { t_maxs[k] },
                             &mut None,
                         );
                     occluded[k] = match pass_through {

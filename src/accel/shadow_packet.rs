@@ -22,7 +22,7 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
+use super::bvh::{SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
 use super::packet::PACKET_SIZE;
 
 /// Two rays share a packet only if their origins, and the ends of their ranges, are closer to
@@ -30,50 +30,13 @@ use super::packet::PACKET_SIZE;
 /// (neighbouring pixels' rays to one light are about 1 % of their length apart).
 const SPREAD: f32 = 1.0 / 8.0;
 
-/// How many of the rays `first, first + stride, first + 2 stride, …` below `n` (at most
-/// [`PACKET_SIZE`]) can share a packet with the first: each with a valid range `t_min <
-/// t_max`, finite ends, a direction that [`Ray::new`] accepts with the first's signs (the sign
-/// bits, so that `-0` and `+0` enter their slabs from the same side, as in the single-ray
-/// test), and origin and end within [`SPREAD`] of the first's. 0 if the first cannot.
-#[inline(always)]
-pub(crate) fn coherent_shadow_run(
-    (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
-    t_min: f32,
-    first: usize,
-    stride: usize,
-    n: usize,
-) -> usize {
-    let end = |i: usize| origins[i] + dirs[i] * t_maxs[i];
-    let (origin, octant, far) = (
-        origins[first],
-        Vec3A::from(dirs[first]).is_negative_bitmask(),
-        end(first),
-    );
-    // NaN for an infinite range: such a ray shares no packet.
-    let limit = (far - origin).length_squared() * (SPREAD * SPREAD);
-    // Index arithmetic, not `step_by(stride).take(..)`: that chain cost the ray caster about
-    // 60 M instructions a frame under callgrind.
-    let joins = |i: usize| {
-        let (o, d) = (origins[i], dirs[i]);
-        t_min < t_maxs[i]
-            && Vec3A::from(d).is_negative_bitmask() == octant
-            && (o - origin).length_squared() <= limit
-            && (end(i) - far).length_squared() <= limit
-            && Ray::new(o.into(), d.into()).is_some()
-    };
-    (0..PACKET_SIZE)
-        .position(|lane| {
-            let i = first + lane * stride;
-            i >= n || !joins(i)
-        })
-        .unwrap_or(PACKET_SIZE)
-}
-
 /// Up to [`PACKET_SIZE`] rays with directions of the same signs, prepared for the box tests.
-/// Unused lanes repeat the first ray.
 pub(crate) struct ShadowPacket {
-    pub origins: [Vec3A; PACKET_SIZE],
-    pub dirs: [Vec3A; PACKET_SIZE],
+    /// Per axis, the eight rays' origins and directions lane by lane, for the leaf tests.
+    origin_lanes: [[f32; PACKET_SIZE]; 3],
+    dir_lanes: [[f32; PACKET_SIZE]; 3],
+    /// The eight rays' range ends.
+    pub t_max: [f32; PACKET_SIZE],
     /// Per axis, the eight rays' origins and reciprocal directions (made finite as
     /// `bvh::Slabs::new` does).
     origin: [__m256; 3],
@@ -85,54 +48,107 @@ pub(crate) struct ShadowPacket {
 }
 
 impl ShadowPacket {
-    /// The packet of rays `indices` (1 to [`PACKET_SIZE`] of them, a
-    /// [`coherent_shadow_run`]) of `origins` and `dirs`. Each ray's coordinates go to their
-    /// axis's lane as it is read, and the reciprocal directions are computed eight lanes at a
-    /// time ([`finite_reciprocals`]), rather than ray by ray and then moved lane by lane.
+    /// The rays `first, first + stride, first + 2 stride, …` below `n` (at most
+    /// [`PACKET_SIZE`]) of `origins`, `dirs` and `t_maxs` (each holding at least `n < 2³¹ / 3`
+    /// entries, and `first < n`), read eight lanes at a time, and how many of them from the
+    /// first on can share a packet with it (0 if the first cannot): each with a valid range
+    /// `t_min < t_max`, finite ends, a direction that
+    /// [`Ray::new`](super::bvh::Ray::new) accepts with the first's
+    /// signs (the sign bits, so that `-0` and `+0` enter their slabs from the same side, as in
+    /// the single-ray test), and origin and end within [`SPREAD`] of the first's. Each test is
+    /// the scalar one's operations lane by lane. The lanes past that run hold other rays (past
+    /// `n`, the last one below it again): the traversal masks them off.
     #[inline(always)]
-    pub fn new(
-        origins: &[Vec3],
-        dirs: &[Vec3],
-        indices: impl Iterator<Item = usize>,
-    ) -> ShadowPacket {
-        let mut packet_origins = [Vec3A::ZERO; PACKET_SIZE];
-        let mut packet_dirs = [Vec3A::ZERO; PACKET_SIZE];
-        let mut o = [[0.0f32; PACKET_SIZE]; 3];
-        let mut d = [[0.0f32; PACKET_SIZE]; 3];
-        let mut count = 0;
-        for (lane, i) in indices.take(PACKET_SIZE).enumerate() {
-            let (origin, dir) = (origins[i], dirs[i]);
-            (packet_origins[lane], packet_dirs[lane]) = (origin.into(), dir.into());
-            (o[0][lane], o[1][lane], o[2][lane]) = (origin.x, origin.y, origin.z);
-            (d[0][lane], d[1][lane], d[2][lane]) = (dir.x, dir.y, dir.z);
-            count = lane + 1;
-        }
-        for lane in count..PACKET_SIZE {
-            (packet_origins[lane], packet_dirs[lane]) = (packet_origins[0], packet_dirs[0]);
-            for axis in 0..3 {
-                (o[axis][lane], d[axis][lane]) = (o[axis][0], d[axis][0]);
-            }
-        }
-        let (near, far) = slab_planes(packet_dirs[0].is_negative_bitmask());
-        // SAFETY: see the module's documentation.
-        let load = |lanes: [f32; PACKET_SIZE]| unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
-        ShadowPacket {
-            origins: packet_origins,
-            dirs: packet_dirs,
-            origin: o.map(load),
-            inv_dir: d.map(|lanes| finite_reciprocals(load(lanes))),
-            near,
-            far,
+    pub fn gather(
+        (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        first: usize,
+        stride: usize,
+        n: usize,
+    ) -> (ShadowPacket, usize) {
+        let n = n.min(origins.len()).min(dirs.len()).min(t_maxs.len());
+        assert!(first < n && n <= i32::MAX as usize / 3);
+        let count = (n - first).div_ceil(stride).min(PACKET_SIZE);
+        // SAFETY: see the module's documentation; the gathers read entries `first + lane
+        // stride` with `lane < count`, all below `n`, each slice's length at most.
+        unsafe {
+            let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            let lane = _mm256_min_epi32(lane, _mm256_set1_epi32(count as i32 - 1));
+            let index = _mm256_add_epi32(
+                _mm256_set1_epi32(first as i32),
+                _mm256_mullo_epi32(lane, _mm256_set1_epi32(stride as i32)),
+            );
+            // A `Vec3` is three `f32`s: axis `axis` of entry `i` is float `3 i + axis`.
+            let float = _mm256_mullo_epi32(index, _mm256_set1_epi32(3));
+            let points = |values: &[Vec3]| {
+                std::array::from_fn::<_, 3, _>(|axis| {
+                    let base = values.as_ptr().cast::<f32>().add(axis);
+                    _mm256_i32gather_ps::<4>(base, float)
+                })
+            };
+            let (o, d) = (points(origins), points(dirs));
+            let t_max = _mm256_i32gather_ps::<4>(t_maxs.as_ptr(), index);
+
+            let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
+            let first_lane = |v: __m256| _mm256_permutevar8x32_ps(v, _mm256_setzero_si256());
+            let length_squared =
+                |v: [__m256; 3]| add(add(mul(v[0], v[0]), mul(v[1], v[1])), mul(v[2], v[2]));
+            let end: [__m256; 3] = std::array::from_fn(|axis| add(o[axis], mul(d[axis], t_max)));
+            // NaN for an infinite range: such a ray shares no packet.
+            let limit = mul(
+                first_lane(length_squared(std::array::from_fn(|a| sub(end[a], o[a])))),
+                _mm256_set1_ps(SPREAD * SPREAD),
+            );
+            let near = |p: [__m256; 3]| {
+                let offset = std::array::from_fn(|axis| sub(p[axis], first_lane(p[axis])));
+                _mm256_cmp_ps::<_CMP_LE_OQ>(length_squared(offset), limit)
+            };
+            // `Ray::new`'s test: `x · 0` is 0 for a finite `x`, NaN otherwise.
+            let zero = _mm256_setzero_ps();
+            let finite = |axis: usize| {
+                let sum = add(mul(o[axis], zero), mul(d[axis], zero));
+                _mm256_cmp_ps::<_CMP_EQ_OQ>(sum, zero)
+            };
+            let nonzero = |axis: usize| _mm256_cmp_ps::<_CMP_NEQ_UQ>(d[axis], zero);
+            let and = _mm256_and_ps;
+            let valid = and(
+                _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(t_min), t_max),
+                _mm256_or_ps(_mm256_or_ps(nonzero(0), nonzero(1)), nonzero(2)),
+            );
+            let finite = and(and(finite(0), finite(1)), finite(2));
+            let joins = and(and(valid, finite), and(near(o), near(end)));
+            // A lane's sign bits differ from the first's where `d ^ d₀` is negative.
+            let flips = std::array::from_fn::<_, 3, _>(|a| _mm256_xor_ps(d[a], first_lane(d[a])));
+            let flipped = _mm256_or_ps(_mm256_or_ps(flips[0], flips[1]), flips[2]);
+            let joins = _mm256_movemask_ps(_mm256_andnot_ps(flipped, joins)) as u32;
+            // The lanes from the first on that join, up to the first that does not.
+            let run = (!(joins & ((1 << count) - 1))).trailing_zeros() as usize;
+
+            let store = |v: __m256| {
+                let mut lanes = [0.0f32; PACKET_SIZE];
+                _mm256_storeu_ps(lanes.as_mut_ptr(), v);
+                lanes
+            };
+            let (near, far) = slab_planes(Vec3A::from(dirs[first]).is_negative_bitmask());
+            let packet = ShadowPacket {
+                origin_lanes: o.map(store),
+                dir_lanes: d.map(store),
+                t_max: store(t_max),
+                origin: o,
+                inv_dir: d.map(finite_reciprocals),
+                near,
+                far,
+            };
+            (packet, run)
         }
     }
 
     /// Ray `lane`'s origin and direction splatted over four lanes, for the leaf tests.
     #[inline(always)]
     pub fn splats(&self, lane: usize) -> ([Vec4; 3], [Vec4; 3]) {
-        let (o, d) = (self.origins[lane], self.dirs[lane]);
         (
-            [0, 1, 2].map(|axis| Vec4::splat(o[axis])),
-            [0, 1, 2].map(|axis| Vec4::splat(d[axis])),
+            [0, 1, 2].map(|axis| Vec4::splat(self.origin_lanes[axis][lane])),
+            [0, 1, 2].map(|axis| Vec4::splat(self.dir_lanes[axis][lane])),
         )
     }
 
@@ -257,17 +273,24 @@ mod tests {
         };
         let (origins, dirs, t_maxs) = batch();
         let lit = 48 * 64 * 2;
-        let full = (0..2)
-            .flat_map(|first| (first..lit).step_by(16))
-            .filter(|&i| {
-                let rays = (&origins[..], &dirs[..], &t_maxs[..]);
-                coherent_shadow_run(rays, 0.0, i, 2, lit) == PACKET_SIZE
-            })
-            .count();
-        assert!(full * PACKET_SIZE > lit / 2, "{full} full packets");
-        let random = (&origins[lit..], &dirs[lit..], &t_maxs[lit..]);
-        let runs = (0..2000).filter(|&i| coherent_shadow_run(random, 0.0, i, 1, 2000) >= 2);
-        assert_eq!(runs.count(), 0);
+        /// The coherent run from ray `first` on, where the CPU has AVX2.
+        #[target_feature(enable = "avx2")]
+        fn run(rays: (&[Vec3], &[Vec3], &[f32]), first: usize, stride: usize, n: usize) -> usize {
+            ShadowPacket::gather(rays, 0.0, first, stride, n).1
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let rays = (&origins[..], &dirs[..], &t_maxs[..]);
+            // SAFETY: the CPU has AVX2.
+            let full = (0..2)
+                .flat_map(|first| (first..lit).step_by(16))
+                .filter(|&i| unsafe { run(rays, i, 2, lit) } == PACKET_SIZE)
+                .count();
+            assert!(full * PACKET_SIZE > lit / 2, "{full} full packets");
+            let random = (&origins[lit..], &dirs[lit..], &t_maxs[lit..]);
+            // SAFETY: as above.
+            let runs = (0..2000).filter(|&i| unsafe { run(random, i, 1, 2000) } >= 2);
+            assert_eq!(runs.count(), 0);
+        }
         for accel in [
             scene(Vec::new(), Vec::new()),
             scene(vec![disk], vec![plane]),
