@@ -23,7 +23,8 @@ use std::arch::x86_64::*;
 use glam::{Vec3, Vec3A, Vec4};
 
 use super::bvh::{SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
-use super::packet::PACKET_SIZE;
+use super::packet::{PACKET_SIZE, RayLanes, first_lane, to_lanes};
+use super::triangle_lanes::{TriangleRays, lane_mask};
 
 /// Two rays share a packet only if their origins, and the ends of their ranges, are closer to
 /// each other than this fraction of the first ray's length: the rays then run side by side
@@ -37,9 +38,10 @@ pub(crate) struct ShadowPacket {
     dir_lanes: [[f32; PACKET_SIZE]; 3],
     /// The eight rays' range ends.
     pub t_max: [f32; PACKET_SIZE],
-    /// Per axis, the eight rays' origins and reciprocal directions (made finite as
-    /// `bvh::Slabs::new` does).
+    /// Per axis, the eight rays' origins, directions and reciprocal directions (made finite
+    /// as `bvh::Slabs::new` does).
     origin: [__m256; 3],
+    dir: [__m256; 3],
     inv_dir: [__m256; 3],
     /// Per axis, the byte offset in a node's `bounds` of the plane the rays enter the slab
     /// through, and of the one they leave through (as in `bvh::Slabs`).
@@ -49,48 +51,24 @@ pub(crate) struct ShadowPacket {
 
 impl ShadowPacket {
     /// The rays `first, first + stride, first + 2 stride, …` below `n` (at most
-    /// [`PACKET_SIZE`]) of `origins`, `dirs` and `t_maxs` (each holding at least `n < 2³¹ / 3`
-    /// entries, and `first < n`), read eight lanes at a time, and how many of them from the
-    /// first on can share a packet with it (0 if the first cannot): each with a valid range
-    /// `t_min < t_max`, finite ends, a direction that
-    /// [`Ray::new`](super::bvh::Ray::new) accepts with the first's
-    /// signs (the sign bits, so that `-0` and `+0` enter their slabs from the same side, as in
-    /// the single-ray test), and origin and end within [`SPREAD`] of the first's. Each test is
-    /// the scalar one's operations lane by lane. The lanes past that run hold other rays (past
-    /// `n`, the last one below it again): the traversal masks them off.
+    /// [`PACKET_SIZE`]) of `origins`, `dirs` and `t_maxs` (as [`RayLanes::gather`] takes
+    /// them), and how many of them from the first on can share a packet with it (0 if the
+    /// first cannot): each [`RayLanes::traceable_with_first`], with finite ends, and origin and
+    /// end within [`SPREAD`] of the first's, each test the scalar one's operations lane by
+    /// lane. The lanes past that run hold other rays: the traversal masks them off.
     #[inline(always)]
     pub fn gather(
-        (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
+        rays: (&[Vec3], &[Vec3], &[f32]),
         t_min: f32,
         first: usize,
         stride: usize,
         n: usize,
     ) -> (ShadowPacket, usize) {
-        let n = n.min(origins.len()).min(dirs.len()).min(t_maxs.len());
-        assert!(first < n && n <= i32::MAX as usize / 3);
-        let count = (n - first).div_ceil(stride).min(PACKET_SIZE);
-        // SAFETY: see the module's documentation; the gathers read entries `first + lane
-        // stride` with `lane < count`, all below `n`, each slice's length at most.
-        unsafe {
-            let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-            let lane = _mm256_min_epi32(lane, _mm256_set1_epi32(count as i32 - 1));
-            let index = _mm256_add_epi32(
-                _mm256_set1_epi32(first as i32),
-                _mm256_mullo_epi32(lane, _mm256_set1_epi32(stride as i32)),
-            );
-            // A `Vec3` is three `f32`s: axis `axis` of entry `i` is float `3 i + axis`.
-            let float = _mm256_mullo_epi32(index, _mm256_set1_epi32(3));
-            let points = |values: &[Vec3]| {
-                std::array::from_fn::<_, 3, _>(|axis| {
-                    let base = values.as_ptr().cast::<f32>().add(axis);
-                    _mm256_i32gather_ps::<4>(base, float)
-                })
-            };
-            let (o, d) = (points(origins), points(dirs));
-            let t_max = _mm256_i32gather_ps::<4>(t_maxs.as_ptr(), index);
-
+        let lanes = RayLanes::gather(rays, first, stride, n);
+        let (o, d, t_max) = (lanes.origin, lanes.dir, lanes.t_max);
+        // SAFETY: see the module's documentation.
+        let joins = unsafe {
             let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
-            let first_lane = |v: __m256| _mm256_permutevar8x32_ps(v, _mm256_setzero_si256());
             let length_squared =
                 |v: [__m256; 3]| add(add(mul(v[0], v[0]), mul(v[1], v[1])), mul(v[2], v[2]));
             let end: [__m256; 3] = std::array::from_fn(|axis| add(o[axis], mul(d[axis], t_max)));
@@ -103,43 +81,32 @@ impl ShadowPacket {
                 let offset = std::array::from_fn(|axis| sub(p[axis], first_lane(p[axis])));
                 _mm256_cmp_ps::<_CMP_LE_OQ>(length_squared(offset), limit)
             };
-            // `Ray::new`'s test: `x · 0` is 0 for a finite `x`, NaN otherwise.
-            let zero = _mm256_setzero_ps();
-            let finite = |axis: usize| {
-                let sum = add(mul(o[axis], zero), mul(d[axis], zero));
-                _mm256_cmp_ps::<_CMP_EQ_OQ>(sum, zero)
-            };
-            let nonzero = |axis: usize| _mm256_cmp_ps::<_CMP_NEQ_UQ>(d[axis], zero);
             let and = _mm256_and_ps;
-            let valid = and(
-                _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(t_min), t_max),
-                _mm256_or_ps(_mm256_or_ps(nonzero(0), nonzero(1)), nonzero(2)),
-            );
-            let finite = and(and(finite(0), finite(1)), finite(2));
-            let joins = and(and(valid, finite), and(near(o), near(end)));
-            // A lane's sign bits differ from the first's where `d ^ d₀` is negative.
-            let flips = std::array::from_fn::<_, 3, _>(|a| _mm256_xor_ps(d[a], first_lane(d[a])));
-            let flipped = _mm256_or_ps(_mm256_or_ps(flips[0], flips[1]), flips[2]);
-            let joins = _mm256_movemask_ps(_mm256_andnot_ps(flipped, joins)) as u32;
-            // The lanes from the first on that join, up to the first that does not.
-            let run = (!(joins & ((1 << count) - 1))).trailing_zeros() as usize;
+            and(lanes.traceable_with_first(t_min), and(near(o), near(end)))
+        };
+        let (near, far) = slab_planes(Vec3A::from(rays.1[first]).is_negative_bitmask());
+        let packet = ShadowPacket {
+            origin_lanes: o.map(to_lanes),
+            dir_lanes: d.map(to_lanes),
+            t_max: to_lanes(t_max),
+            origin: o,
+            dir: d,
+            inv_dir: d.map(finite_reciprocals),
+            near,
+            far,
+        };
+        (packet, lanes.run(joins))
+    }
 
-            let store = |v: __m256| {
-                let mut lanes = [0.0f32; PACKET_SIZE];
-                _mm256_storeu_ps(lanes.as_mut_ptr(), v);
-                lanes
-            };
-            let (near, far) = slab_planes(Vec3A::from(dirs[first]).is_negative_bitmask());
-            let packet = ShadowPacket {
-                origin_lanes: o.map(store),
-                dir_lanes: d.map(store),
-                t_max: store(t_max),
-                origin: o,
-                inv_dir: d.map(finite_reciprocals),
-                near,
-                far,
-            };
-            (packet, run)
+    /// The rays set in `rays`, for the leaf tests triangle by triangle.
+    #[inline(always)]
+    pub fn triangle_rays(&self, rays: u32, t_min: f32) -> TriangleRays {
+        TriangleRays {
+            origin: self.origin,
+            dir: self.dir,
+            // SAFETY: see the module's documentation.
+            t_min: unsafe { _mm256_set1_ps(t_min) },
+            active: lane_mask(rays),
         }
     }
 
