@@ -548,8 +548,9 @@ impl Accel {
         for first in 0..stride.min(n) {
             let mut i = first;
             while i < n {
-                // An empty slot (a point the light does not reach) has no ray to trace.
-                if !(t_min < t_maxs[i]) {
+                // An empty slot (a point the light does not reach: `t_max <= t_min`) has no
+                // ray to trace.
+                if t_min.partial_cmp(&t_maxs[i]) != Some(std::cmp::Ordering::Less) {
                     occluded[i] = false;
                     i += stride;
                     continue;
