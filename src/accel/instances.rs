@@ -82,6 +82,11 @@ impl Instances {
         }
     }
 
+    /// Whether there are no instances.
+    pub fn is_empty(&self) -> bool {
+        self.placed.is_empty()
+    }
+
     /// As [`Blas::find`], over every instance the ray `origin + t dir` (valid for
     /// [`Ray::new`]) reaches. Only the test for "no instances" is inlined into the callers:
     /// the world tree's traversal, inlined beside it, keeps its registers, and its prepared

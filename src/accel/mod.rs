@@ -28,6 +28,7 @@ mod primitive;
 mod shadow_packet;
 mod sphere;
 mod triangle;
+mod triangle_lanes;
 pub(crate) mod vex;
 
 use std::time::{Duration, Instant};
@@ -377,7 +378,7 @@ impl Accel {
         )
     }
 
-    /// [`Accel::closest_hits_chunk`] with runs of coherent rays ([`packet::coherent_run`]:
+    /// [`Accel::closest_hits_chunk`] with runs of coherent rays ([`packet::coherent_packet`]:
     /// a camera's) traced through the world tree as packets, the others one by one. Each ray
     /// of a packet meets the planes and disks first, as in [`Accel::find_closest`].
     #[cfg(target_arch = "x86_64")]
@@ -393,30 +394,39 @@ impl Accel {
         let n = (hits.len().min(origins.len()))
             .min(dirs.len())
             .min(t_maxs.len());
+        let beside_trees = !(self.planes.is_empty() && self.disks.is_empty());
         let mut i = 0;
         while i < n {
-            let run = packet::coherent_run(&origins[i..n], &dirs[i..n], t_min, &t_maxs[i..n]);
-            if run < packet::MIN_PACKET {
-                for k in i..i + run.max(1) {
-                    hits[k] = self.find_closest(origins[k], dirs[k], t_min, t_maxs[k]);
-                }
-                i += run.max(1);
-                continue;
-            }
-            let packet = packet::RayPacket::new(origins[i], &dirs[i..i + run]);
-            let mut t_max = [t_min; packet::PACKET_SIZE];
-            t_max[..run].copy_from_slice(&t_maxs[i..i + run]);
+            let (packet, run) =
+                match packet::coherent_packet(&origins[i..n], &dirs[i..n], t_min, &t_maxs[i..n]) {
+                    Some((packet, run)) if run >= packet::MIN_PACKET => (packet, run),
+                    short => {
+                        let singles = short.map_or(1, |(_, run)| run.max(1));
+                        for k in i..i + singles {
+                            hits[k] = self.find_closest(origins[k], dirs[k], t_min, t_maxs[k]);
+                        }
+                        i += singles;
+                        continue;
+                    }
+                };
+            let mut t_max = packet.t_max;
             let mut found = [None; packet::PACKET_SIZE];
-            for (lane, &d) in packet.dirs[..run].iter().enumerate() {
-                self.find_beside_trees(packet.origin, d, t_min, &mut t_max[lane], &mut found[lane]);
+            if beside_trees {
+                for lane in 0..run {
+                    let d = dirs[i + lane].into();
+                    let (t_max, found) = (&mut t_max[lane], &mut found[lane]);
+                    self.find_beside_trees(packet.origin, d, t_min, t_max, found);
+                }
             }
             self.world
                 .find_packet(&packet, (1 << run) - 1, t_min, &mut t_max, &mut found);
-            for lane in 0..run {
-                let (o, d) = (packet.origin, packet.dirs[lane]);
-                (self.instances).find::<false>(o, d, t_min, &mut t_max[lane], &mut found[lane]);
-                hits[i + lane] = found[lane];
+            if !self.instances.is_empty() {
+                for lane in 0..run {
+                    let (o, d) = (packet.origin, dirs[i + lane].into());
+                    (self.instances).find::<false>(o, d, t_min, &mut t_max[lane], &mut found[lane]);
+                }
             }
+            hits[i..i + run].copy_from_slice(&found[..run]);
             i += run;
         }
     }
@@ -514,7 +524,7 @@ impl Accel {
     }
 
     /// [`Accel::any_hits_chunk`] with each of the `stride` interleaved sequences of rays cut
-    /// into runs of coherent rays ([`shadow_packet::coherent_shadow_run`]) traced through the
+    /// into runs of coherent rays ([`shadow_packet::ShadowPacket::gather`]) traced through the
     /// world tree as packets, the others one by one. Each ray of a packet meets the planes and
     /// disks first and the instances last, as in [`Accel::find_any`].
     #[cfg(target_arch = "x86_64")]
@@ -534,11 +544,19 @@ impl Accel {
             None => self.find_any(origins[k], dirs[k], t_min, t_maxs[k]),
             Some(pass) => self.find_any_opaque(origins[k], dirs[k], t_min, t_maxs[k], pass),
         };
+        let beside_trees = !(self.planes.is_empty() && self.disks.is_empty());
         for first in 0..stride.min(n) {
             let mut i = first;
             while i < n {
+                // An empty slot (a point the light does not reach: `t_max <= t_min`) has no
+                // ray to trace.
+                if t_min.partial_cmp(&t_maxs[i]) != Some(std::cmp::Ordering::Less) {
+                    occluded[i] = false;
+                    i += stride;
+                    continue;
+                }
                 let rays = (origins, dirs, t_maxs);
-                let run = shadow_packet::coherent_shadow_run(rays, t_min, i, stride, n);
+                let (packet, run) = shadow_packet::ShadowPacket::gather(rays, t_min, i, stride, n);
                 if run < packet::MIN_PACKET {
                     for lane in 0..run.max(1) {
                         let k = i + lane * stride;
@@ -548,30 +566,28 @@ impl Accel {
                     continue;
                 }
                 let lanes = (0..run).map(|lane| i + lane * stride);
-                let packet = shadow_packet::ShadowPacket::new(origins, dirs, lanes.clone());
-                let mut t_max = [t_min; packet::PACKET_SIZE];
                 let mut hit = 0;
-                for (lane, k) in lanes.clone().enumerate() {
-                    t_max[lane] = t_maxs[k];
-                    let (o, d) = (packet.origins[lane], packet.dirs[lane]);
-                    hit |= (self.any_beside_trees(o, d, t_min, t_max[lane]) as u32) << lane;
+                if beside_trees {
+                    for (lane, k) in lanes.clone().enumerate() {
+                        let (o, d) = (origins[k].into(), dirs[k].into());
+                        hit |= (self.any_beside_trees(o, d, t_min, t_maxs[k]) as u32) << lane;
+                    }
                 }
                 let active = ((1 << run) - 1) & !hit;
                 if active != 0 {
-                    hit |= self
-                        .world
-                        .find_shadow_packet(&packet, active, t_min, &t_max);
+                    hit |= (self.world).find_shadow_packet(&packet, active, t_min, &packet.t_max);
+                }
+                if !self.instances.is_empty() {
+                    for (lane, k) in lanes.clone().enumerate() {
+                        let (o, d) = (origins[k].into(), dirs[k].into());
+                        let t_max = &mut { t_maxs[k] };
+                        let blocked = hit & (1 << lane) != 0
+                            || (self.instances).find::<true>(o, d, t_min, t_max, &mut None);
+                        hit |= (blocked as u32) << lane;
+                    }
                 }
                 for (lane, k) in lanes.enumerate() {
-                    let (o, d) = (packet.origins[lane], packet.dirs[lane]);
-                    let blocked = hit & (1 << lane) != 0
-                        || (self.instances).find::<true>(
-                            o,
-                            d,
-                            t_min,
-                            &mut { t_max[lane] },
-                            &mut None,
-                        );
+                    let blocked = hit & (1 << lane) != 0;
                     occluded[k] = match pass_through {
                         Some(pass) if blocked => self
                             .blocked_past_pass_through(origins[k], dirs[k], t_min, t_maxs[k], pass),

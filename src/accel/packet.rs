@@ -2,18 +2,21 @@
 //! rays through neighbouring pixels), which walk the tree together, each node's four boxes
 //! tested against all eight rays at once in AVX lanes.
 //!
-//! Coherence is found in the rays themselves ([`coherent_run`]), never from the camera: a run
-//! of consecutive rays with the bit-identical origin and the same direction octant. Sharing the
-//! origin makes a box plane's offset `bound - o` one subtraction per node for all rays (four
-//! children at once); sharing the octant makes the slab's entry and exit planes the same for
-//! all rays (Williams et al. 2005), so the per-ray work at a node is one product per plane and
-//! child. Each lane computes exactly the operations of the single-ray box test
+//! Coherence is found in the rays themselves ([`coherent_packet`]), never from the camera: a
+//! run of consecutive rays with the bit-identical origin and the same direction octant.
+//! Sharing the origin makes a box plane's offset `bound - o` one subtraction per node for all
+//! rays (four children at once); sharing the octant makes the slab's entry and exit planes the
+//! same for all rays (Williams et al. 2005), so the per-ray work at a node is one product per
+//! plane and child. Each lane computes exactly the operations of the single-ray box test
 //! ([`super::bvh`]) on the same values, so a ray enters the same boxes either way.
 //!
-//! A value of [`RayPacket`] is used only inside a function compiled for AVX2 and called after
-//! `is_x86_feature_detected!` found it (`Accel::closest_hits_chunk`): that makes the
-//! intrinsics' `unsafe` sound. Its methods are `#[inline(always)]`, so they are compiled into
-//! that function, where the intrinsics inline.
+//! The rays are read eight at a time ([`RayLanes`], which the shadow packets share), and the
+//! tests that decide which of them can share a packet are made in their lanes.
+//!
+//! A value of [`RayPacket`] or [`RayLanes`] is used only inside a function compiled for AVX2
+//! and called after `is_x86_feature_detected!` found it (`Accel::closest_hits_chunk`,
+//! `Accel::any_hits_chunk`): that makes the intrinsics' `unsafe` sound. Their methods are
+//! `#[inline(always)]`, so they are compiled into that function, where the intrinsics inline.
 
 #![cfg(target_arch = "x86_64")]
 
@@ -21,7 +24,8 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
+use super::bvh::{SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
+use super::triangle_lanes::{TriangleRays, lane_mask};
 
 /// Rays per packet: the lanes of one AVX register.
 pub(crate) const PACKET_SIZE: usize = 8;
@@ -29,35 +33,154 @@ pub(crate) const PACKET_SIZE: usize = 8;
 /// eight rays whatever the number of live lanes.
 pub(crate) const MIN_PACKET: usize = 4;
 
-/// How many rays from the first on (at most [`PACKET_SIZE`]; or 0 if fewer than [`MIN_PACKET`]) can share a packet: each with
-/// a valid range `t_min < t_max` (an empty slot ends the run), an origin bit-identical to the
-/// first's, and a direction that [`Ray::new`] accepts with the first's signs (the sign bits,
-/// so that `-0` and `+0` enter their slabs from the same side, as in the single-ray test).
-/// Incoherent rays (the path tracer's bounces) are told apart by one comparison first: the ray
-/// `MIN_PACKET - 1` on has another origin (the run is then too short to count).
-pub(crate) fn coherent_run(origins: &[Vec3], dirs: &[Vec3], t_min: f32, t_maxs: &[f32]) -> usize {
-    if origins.get(MIN_PACKET - 1) != Some(&origins[0]) {
-        return 0;
+/// Up to [`PACKET_SIZE`] rays of a batch in AVX lanes: the rays `first, first + stride, …`
+/// below `n`, each axis of their origins and directions and their range ends in one register
+/// each. Lanes past `n` hold the last ray below it again.
+pub(crate) struct RayLanes {
+    pub origin: [__m256; 3],
+    pub dir: [__m256; 3],
+    pub t_max: __m256,
+    /// How many lanes hold rays below `n`.
+    count: usize,
+}
+
+impl RayLanes {
+    /// The rays `first, first + stride, …` below `n` (at most [`PACKET_SIZE`]) of `origins`,
+    /// `dirs` and `t_maxs`, each of which holds at least `n` entries; `first < n < 2³¹ / 3`.
+    #[inline(always)]
+    pub fn gather(
+        (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
+        first: usize,
+        stride: usize,
+        n: usize,
+    ) -> RayLanes {
+        let n = n.min(origins.len()).min(dirs.len()).min(t_maxs.len());
+        assert!(first < n && n <= i32::MAX as usize / 3);
+        let count = (n - first).div_ceil(stride).min(PACKET_SIZE);
+        // SAFETY: see the module's documentation; the gathers read entries `first + lane
+        // stride` with `lane < count`, all below `n`, each slice's length at most.
+        unsafe {
+            let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            let lane = _mm256_min_epi32(lane, _mm256_set1_epi32(count as i32 - 1));
+            let index = _mm256_add_epi32(
+                _mm256_set1_epi32(first as i32),
+                _mm256_mullo_epi32(lane, _mm256_set1_epi32(stride as i32)),
+            );
+            // A `Vec3` is three `f32`s: axis `axis` of entry `i` is float `3 i + axis`.
+            let float = _mm256_mullo_epi32(index, _mm256_set1_epi32(3));
+            let points = |values: &[Vec3]| {
+                std::array::from_fn(|axis| {
+                    let base = values.as_ptr().cast::<f32>().add(axis);
+                    _mm256_i32gather_ps::<4>(base, float)
+                })
+            };
+            RayLanes {
+                origin: points(origins),
+                dir: points(dirs),
+                t_max: _mm256_i32gather_ps::<4>(t_maxs.as_ptr(), index),
+                count,
+            }
+        }
     }
-    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-    let origin = bits(origins[0]);
+
+    /// The lanes whose ray can be traced with the first's: its range `t_min < t_max` is
+    /// valid, [`Ray::new`](super::bvh::Ray::new) accepts it, and its direction has the
+    /// first's signs (the sign bits, so that `-0` and `+0` enter their slabs from the same
+    /// side, as in the single-ray test). Each test is the scalar one's operations lane by
+    /// lane.
+    #[inline(always)]
+    pub fn traceable_with_first(&self, t_min: f32) -> __m256 {
+        let (o, d) = (&self.origin, &self.dir);
+        // SAFETY: see the module's documentation.
+        unsafe {
+            let (add, mul, and, or) = (_mm256_add_ps, _mm256_mul_ps, _mm256_and_ps, _mm256_or_ps);
+            // `Ray::new`'s test: `x · 0` is 0 for a finite `x`, NaN otherwise.
+            let zero = _mm256_setzero_ps();
+            let finite = |axis: usize| {
+                let sum = add(mul(o[axis], zero), mul(d[axis], zero));
+                _mm256_cmp_ps::<_CMP_EQ_OQ>(sum, zero)
+            };
+            let nonzero = |axis: usize| _mm256_cmp_ps::<_CMP_NEQ_UQ>(d[axis], zero);
+            let valid = and(
+                _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(t_min), self.t_max),
+                or(or(nonzero(0), nonzero(1)), nonzero(2)),
+            );
+            let finite = and(and(finite(0), finite(1)), finite(2));
+            // A lane's sign bits differ from the first's where `d ^ d₀` is negative.
+            let flip = |axis: usize| _mm256_xor_ps(d[axis], first_lane(d[axis]));
+            let flipped = or(or(flip(0), flip(1)), flip(2));
+            _mm256_andnot_ps(flipped, and(valid, finite))
+        }
+    }
+
+    /// How many lanes from the first on are set in `joins`, up to the first that is not.
+    #[inline(always)]
+    pub fn run(&self, joins: __m256) -> usize {
+        // SAFETY: see the module's documentation.
+        let joins = unsafe { _mm256_movemask_ps(joins) } as u32;
+        (!(joins & ((1 << self.count) - 1))).trailing_zeros() as usize
+    }
+}
+
+/// `v`'s first lane in all eight.
+#[inline(always)]
+pub(crate) fn first_lane(v: __m256) -> __m256 {
+    // SAFETY: see the module's documentation.
+    unsafe { _mm256_permutevar8x32_ps(v, _mm256_setzero_si256()) }
+}
+
+/// The eight lanes of `v` as an array.
+#[inline(always)]
+pub(crate) fn to_lanes(v: __m256) -> [f32; PACKET_SIZE] {
+    let mut lanes = [0.0f32; PACKET_SIZE];
+    // SAFETY: see the module's documentation; the store writes the array's eight floats.
+    unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), v) };
+    lanes
+}
+
+/// The packet of the first coherent rays of `origins`, `dirs` and `t_maxs` (rays from the
+/// first on, at most [`PACKET_SIZE`]), and how many they are: rays that [`RayLanes::
+/// traceable_with_first`] finds, with an origin bit-identical to the first's; `None` for
+/// incoherent rays (the path tracer's bounces), told apart by one comparison first: the ray
+/// `MIN_PACKET - 1` on has another origin (the run is then too short to count).
+#[inline(always)]
+pub(crate) fn coherent_packet(
+    origins: &[Vec3],
+    dirs: &[Vec3],
+    t_min: f32,
+    t_maxs: &[f32],
+) -> Option<(RayPacket, usize)> {
+    if origins.get(MIN_PACKET - 1) != Some(&origins[0]) {
+        return None;
+    }
+    let rays = RayLanes::gather((origins, dirs, t_maxs), 0, 1, origins.len());
+    // SAFETY: see the module's documentation.
+    let same_origin = rays.origin.map(|axis| unsafe {
+        let bits = _mm256_castps_si256(axis);
+        let first = _mm256_castps_si256(first_lane(axis));
+        _mm256_castsi256_ps(_mm256_cmpeq_epi32(bits, first))
+    });
+    // SAFETY: as above.
+    let joins = unsafe {
+        let and = _mm256_and_ps;
+        let origin = and(and(same_origin[0], same_origin[1]), same_origin[2]);
+        and(origin, rays.traceable_with_first(t_min))
+    };
     let octant = Vec3A::from(dirs[0]).is_negative_bitmask();
-    let rays = origins.iter().zip(dirs).zip(t_maxs).take(PACKET_SIZE);
-    rays.take_while(|&((&o, &d), &t_max)| {
-        t_min < t_max
-            && bits(o) == origin
-            && Vec3A::from(d).is_negative_bitmask() == octant
-            && Ray::new(o.into(), d.into()).is_some()
-    })
-    .count()
+    let packet = RayPacket::new(Vec3A::from(origins[0]), octant, &rays);
+    Some((packet, rays.run(joins)))
 }
 
 /// Up to [`PACKET_SIZE`] rays from one origin with directions of the same signs, prepared for
-/// the box tests. Unused lanes repeat the first ray.
+/// the box tests. Lanes past the packet's run hold other rays: the traversal masks them off.
 pub(crate) struct RayPacket {
     pub origin: Vec3A,
     pub origin4: [Vec4; 3],
-    pub dirs: [Vec3A; PACKET_SIZE],
+    /// The rays' range ends.
+    pub t_max: [f32; PACKET_SIZE],
+    /// Per axis, the eight rays' directions, and lane by lane, for the leaf tests.
+    dir: [__m256; 3],
+    dir_lanes: [[f32; PACKET_SIZE]; 3],
     /// Per axis, the eight rays' reciprocal directions (made finite as `Slabs::new` does).
     inv_dir: [__m256; 3],
     /// Per axis, the byte offset in a node's `bounds` of the plane the rays enter the slab
@@ -67,37 +190,39 @@ pub(crate) struct RayPacket {
 }
 
 impl RayPacket {
-    /// The packet of `dirs` (1 to [`PACKET_SIZE`] of them, a [`coherent_run`]) from `origin`.
+    /// The packet of `rays` from `origin`, whose directions have the sign bits `octant`.
     #[inline(always)]
-    pub fn new(origin: Vec3, dirs: &[Vec3]) -> RayPacket {
-        let mut all = [Vec3A::from(dirs[0]); PACKET_SIZE];
-        // Per axis, the directions lane by lane, whose reciprocals are then computed eight
-        // lanes at a time.
-        let mut d = [[0.0f32; PACKET_SIZE]; 3];
-        for (lane, dir) in all.iter_mut().enumerate() {
-            if let Some(&v) = dirs.get(lane) {
-                *dir = v.into();
-            }
-            (d[0][lane], d[1][lane], d[2][lane]) = (dir.x, dir.y, dir.z);
-        }
-        let (near, far) = slab_planes(Vec3A::from(dirs[0]).is_negative_bitmask());
-        let origin = Vec3A::from(origin);
+    fn new(origin: Vec3A, octant: u32, rays: &RayLanes) -> RayPacket {
+        let (near, far) = slab_planes(octant);
         RayPacket {
             origin,
             origin4: [0, 1, 2].map(|axis| Vec4::splat(origin[axis])),
-            dirs: all,
-            // SAFETY: see the module's documentation.
-            inv_dir: d.map(|lanes| finite_reciprocals(unsafe { _mm256_loadu_ps(lanes.as_ptr()) })),
+            t_max: to_lanes(rays.t_max),
+            dir: rays.dir,
+            dir_lanes: rays.dir.map(to_lanes),
+            inv_dir: rays.dir.map(finite_reciprocals),
             near,
             far,
+        }
+    }
+
+    /// The rays set in `rays`, for the leaf tests triangle by triangle.
+    #[inline(always)]
+    pub fn triangle_rays(&self, rays: u32, t_min: f32) -> TriangleRays {
+        // SAFETY: see the module's documentation.
+        let splat = |x: f32| unsafe { _mm256_set1_ps(x) };
+        TriangleRays {
+            origin: [0, 1, 2].map(|axis| splat(self.origin[axis])),
+            dir: self.dir,
+            t_min: splat(t_min),
+            active: lane_mask(rays),
         }
     }
 
     /// The direction of ray `lane` splatted over four lanes, for the leaf tests.
     #[inline(always)]
     pub fn dir4(&self, lane: usize) -> [Vec4; 3] {
-        let dir = self.dirs[lane];
-        [0, 1, 2].map(|axis| Vec4::splat(dir[axis]))
+        [0, 1, 2].map(|axis| Vec4::splat(self.dir_lanes[axis][lane]))
     }
 
     /// The slab test of the node's four boxes (`bounds` as `bvh::Node` stores them) against
@@ -252,15 +377,22 @@ pub(super) mod tests {
             dirs.push(point(i + 5000) - origins[camera + i as usize]);
             t_maxs.push(f32::INFINITY);
         }
-        let full = (0..camera - 8)
-            .step_by(8)
-            .filter(|&i| coherent_run(&origins[i..], &dirs[i..], 0.0, &t_maxs[i..]) == 8)
-            .count();
-        assert!(full * 8 > camera / 2, "{full} full packets");
-        assert_eq!(
-            coherent_run(&origins[camera..], &dirs[camera..], 0.0, &t_maxs[camera..]),
-            0
-        );
+        /// The coherent run from ray `first` on, where the CPU has AVX2.
+        #[target_feature(enable = "avx2")]
+        fn run(origins: &[Vec3], dirs: &[Vec3], t_maxs: &[f32], first: usize) -> usize {
+            let rays = (&origins[first..], &dirs[first..], 0.0, &t_maxs[first..]);
+            coherent_packet(rays.0, rays.1, rays.2, rays.3).map_or(0, |(_, run)| run)
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2.
+            let full = (0..camera - 8)
+                .step_by(8)
+                .filter(|&i| unsafe { run(&origins, &dirs, &t_maxs, i) } == 8)
+                .count();
+            assert!(full * 8 > camera / 2, "{full} full packets");
+            // SAFETY: as above.
+            assert_eq!(unsafe { run(&origins, &dirs, &t_maxs, camera) }, 0);
+        }
         let mut hits = vec![None; origins.len()];
         accel.closest_hits(&origins, &dirs, 0.0, &t_maxs, &mut hits);
         let (mut found, mut ties) = (0, 0);

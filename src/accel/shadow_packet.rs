@@ -22,61 +22,26 @@ use std::arch::x86_64::*;
 
 use glam::{Vec3, Vec3A, Vec4};
 
-use super::bvh::{Ray, SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
-use super::packet::PACKET_SIZE;
+use super::bvh::{SLAB_ROBUSTNESS, finite_reciprocals, slab_planes};
+use super::packet::{PACKET_SIZE, RayLanes, first_lane, to_lanes};
+use super::triangle_lanes::{TriangleRays, lane_mask};
 
 /// Two rays share a packet only if their origins, and the ends of their ranges, are closer to
 /// each other than this fraction of the first ray's length: the rays then run side by side
 /// (neighbouring pixels' rays to one light are about 1 % of their length apart).
 const SPREAD: f32 = 1.0 / 8.0;
 
-/// How many of the rays `first, first + stride, first + 2 stride, …` below `n` (at most
-/// [`PACKET_SIZE`]) can share a packet with the first: each with a valid range `t_min <
-/// t_max`, finite ends, a direction that [`Ray::new`] accepts with the first's signs (the sign
-/// bits, so that `-0` and `+0` enter their slabs from the same side, as in the single-ray
-/// test), and origin and end within [`SPREAD`] of the first's. 0 if the first cannot.
-#[inline(always)]
-pub(crate) fn coherent_shadow_run(
-    (origins, dirs, t_maxs): (&[Vec3], &[Vec3], &[f32]),
-    t_min: f32,
-    first: usize,
-    stride: usize,
-    n: usize,
-) -> usize {
-    let end = |i: usize| origins[i] + dirs[i] * t_maxs[i];
-    let (origin, octant, far) = (
-        origins[first],
-        Vec3A::from(dirs[first]).is_negative_bitmask(),
-        end(first),
-    );
-    // NaN for an infinite range: such a ray shares no packet.
-    let limit = (far - origin).length_squared() * (SPREAD * SPREAD);
-    // Index arithmetic, not `step_by(stride).take(..)`: that chain cost the ray caster about
-    // 60 M instructions a frame under callgrind.
-    let joins = |i: usize| {
-        let (o, d) = (origins[i], dirs[i]);
-        t_min < t_maxs[i]
-            && Vec3A::from(d).is_negative_bitmask() == octant
-            && (o - origin).length_squared() <= limit
-            && (end(i) - far).length_squared() <= limit
-            && Ray::new(o.into(), d.into()).is_some()
-    };
-    (0..PACKET_SIZE)
-        .position(|lane| {
-            let i = first + lane * stride;
-            i >= n || !joins(i)
-        })
-        .unwrap_or(PACKET_SIZE)
-}
-
 /// Up to [`PACKET_SIZE`] rays with directions of the same signs, prepared for the box tests.
-/// Unused lanes repeat the first ray.
 pub(crate) struct ShadowPacket {
-    pub origins: [Vec3A; PACKET_SIZE],
-    pub dirs: [Vec3A; PACKET_SIZE],
-    /// Per axis, the eight rays' origins and reciprocal directions (made finite as
-    /// `bvh::Slabs::new` does).
+    /// Per axis, the eight rays' origins and directions lane by lane, for the leaf tests.
+    origin_lanes: [[f32; PACKET_SIZE]; 3],
+    dir_lanes: [[f32; PACKET_SIZE]; 3],
+    /// The eight rays' range ends.
+    pub t_max: [f32; PACKET_SIZE],
+    /// Per axis, the eight rays' origins, directions and reciprocal directions (made finite
+    /// as `bvh::Slabs::new` does).
     origin: [__m256; 3],
+    dir: [__m256; 3],
     inv_dir: [__m256; 3],
     /// Per axis, the byte offset in a node's `bounds` of the plane the rays enter the slab
     /// through, and of the one they leave through (as in `bvh::Slabs`).
@@ -85,54 +50,72 @@ pub(crate) struct ShadowPacket {
 }
 
 impl ShadowPacket {
-    /// The packet of rays `indices` (1 to [`PACKET_SIZE`] of them, a
-    /// [`coherent_shadow_run`]) of `origins` and `dirs`. Each ray's coordinates go to their
-    /// axis's lane as it is read, and the reciprocal directions are computed eight lanes at a
-    /// time ([`finite_reciprocals`]), rather than ray by ray and then moved lane by lane.
+    /// The rays `first, first + stride, first + 2 stride, …` below `n` (at most
+    /// [`PACKET_SIZE`]) of `origins`, `dirs` and `t_maxs` (as [`RayLanes::gather`] takes
+    /// them), and how many of them from the first on can share a packet with it (0 if the
+    /// first cannot): each [`RayLanes::traceable_with_first`], with finite ends, and origin and
+    /// end within [`SPREAD`] of the first's, each test the scalar one's operations lane by
+    /// lane. The lanes past that run hold other rays: the traversal masks them off.
     #[inline(always)]
-    pub fn new(
-        origins: &[Vec3],
-        dirs: &[Vec3],
-        indices: impl Iterator<Item = usize>,
-    ) -> ShadowPacket {
-        let mut packet_origins = [Vec3A::ZERO; PACKET_SIZE];
-        let mut packet_dirs = [Vec3A::ZERO; PACKET_SIZE];
-        let mut o = [[0.0f32; PACKET_SIZE]; 3];
-        let mut d = [[0.0f32; PACKET_SIZE]; 3];
-        let mut count = 0;
-        for (lane, i) in indices.take(PACKET_SIZE).enumerate() {
-            let (origin, dir) = (origins[i], dirs[i]);
-            (packet_origins[lane], packet_dirs[lane]) = (origin.into(), dir.into());
-            (o[0][lane], o[1][lane], o[2][lane]) = (origin.x, origin.y, origin.z);
-            (d[0][lane], d[1][lane], d[2][lane]) = (dir.x, dir.y, dir.z);
-            count = lane + 1;
-        }
-        for lane in count..PACKET_SIZE {
-            (packet_origins[lane], packet_dirs[lane]) = (packet_origins[0], packet_dirs[0]);
-            for axis in 0..3 {
-                (o[axis][lane], d[axis][lane]) = (o[axis][0], d[axis][0]);
-            }
-        }
-        let (near, far) = slab_planes(packet_dirs[0].is_negative_bitmask());
+    pub fn gather(
+        rays: (&[Vec3], &[Vec3], &[f32]),
+        t_min: f32,
+        first: usize,
+        stride: usize,
+        n: usize,
+    ) -> (ShadowPacket, usize) {
+        let lanes = RayLanes::gather(rays, first, stride, n);
+        let (o, d, t_max) = (lanes.origin, lanes.dir, lanes.t_max);
         // SAFETY: see the module's documentation.
-        let load = |lanes: [f32; PACKET_SIZE]| unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
-        ShadowPacket {
-            origins: packet_origins,
-            dirs: packet_dirs,
-            origin: o.map(load),
-            inv_dir: d.map(|lanes| finite_reciprocals(load(lanes))),
+        let joins = unsafe {
+            let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
+            let length_squared =
+                |v: [__m256; 3]| add(add(mul(v[0], v[0]), mul(v[1], v[1])), mul(v[2], v[2]));
+            let end: [__m256; 3] = std::array::from_fn(|axis| add(o[axis], mul(d[axis], t_max)));
+            // NaN for an infinite range: such a ray shares no packet.
+            let limit = mul(
+                first_lane(length_squared(std::array::from_fn(|a| sub(end[a], o[a])))),
+                _mm256_set1_ps(SPREAD * SPREAD),
+            );
+            let near = |p: [__m256; 3]| {
+                let offset = std::array::from_fn(|axis| sub(p[axis], first_lane(p[axis])));
+                _mm256_cmp_ps::<_CMP_LE_OQ>(length_squared(offset), limit)
+            };
+            let and = _mm256_and_ps;
+            and(lanes.traceable_with_first(t_min), and(near(o), near(end)))
+        };
+        let (near, far) = slab_planes(Vec3A::from(rays.1[first]).is_negative_bitmask());
+        let packet = ShadowPacket {
+            origin_lanes: o.map(to_lanes),
+            dir_lanes: d.map(to_lanes),
+            t_max: to_lanes(t_max),
+            origin: o,
+            dir: d,
+            inv_dir: d.map(finite_reciprocals),
             near,
             far,
+        };
+        (packet, lanes.run(joins))
+    }
+
+    /// The rays set in `rays`, for the leaf tests triangle by triangle.
+    #[inline(always)]
+    pub fn triangle_rays(&self, rays: u32, t_min: f32) -> TriangleRays {
+        TriangleRays {
+            origin: self.origin,
+            dir: self.dir,
+            // SAFETY: see the module's documentation.
+            t_min: unsafe { _mm256_set1_ps(t_min) },
+            active: lane_mask(rays),
         }
     }
 
     /// Ray `lane`'s origin and direction splatted over four lanes, for the leaf tests.
     #[inline(always)]
     pub fn splats(&self, lane: usize) -> ([Vec4; 3], [Vec4; 3]) {
-        let (o, d) = (self.origins[lane], self.dirs[lane]);
         (
-            [0, 1, 2].map(|axis| Vec4::splat(o[axis])),
-            [0, 1, 2].map(|axis| Vec4::splat(d[axis])),
+            [0, 1, 2].map(|axis| Vec4::splat(self.origin_lanes[axis][lane])),
+            [0, 1, 2].map(|axis| Vec4::splat(self.dir_lanes[axis][lane])),
         )
     }
 
@@ -257,17 +240,24 @@ mod tests {
         };
         let (origins, dirs, t_maxs) = batch();
         let lit = 48 * 64 * 2;
-        let full = (0..2)
-            .flat_map(|first| (first..lit).step_by(16))
-            .filter(|&i| {
-                let rays = (&origins[..], &dirs[..], &t_maxs[..]);
-                coherent_shadow_run(rays, 0.0, i, 2, lit) == PACKET_SIZE
-            })
-            .count();
-        assert!(full * PACKET_SIZE > lit / 2, "{full} full packets");
-        let random = (&origins[lit..], &dirs[lit..], &t_maxs[lit..]);
-        let runs = (0..2000).filter(|&i| coherent_shadow_run(random, 0.0, i, 1, 2000) >= 2);
-        assert_eq!(runs.count(), 0);
+        /// The coherent run from ray `first` on, where the CPU has AVX2.
+        #[target_feature(enable = "avx2")]
+        fn run(rays: (&[Vec3], &[Vec3], &[f32]), first: usize, stride: usize, n: usize) -> usize {
+            ShadowPacket::gather(rays, 0.0, first, stride, n).1
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let rays = (&origins[..], &dirs[..], &t_maxs[..]);
+            // SAFETY: the CPU has AVX2.
+            let full = (0..2)
+                .flat_map(|first| (first..lit).step_by(16))
+                .filter(|&i| unsafe { run(rays, i, 2, lit) } == PACKET_SIZE)
+                .count();
+            assert!(full * PACKET_SIZE > lit / 2, "{full} full packets");
+            let random = (&origins[lit..], &dirs[lit..], &t_maxs[lit..]);
+            // SAFETY: as above.
+            let runs = (0..2000).filter(|&i| unsafe { run(random, i, 1, 2000) } >= 2);
+            assert_eq!(runs.count(), 0);
+        }
         for accel in [
             scene(Vec::new(), Vec::new()),
             scene(vec![disk], vec![plane]),

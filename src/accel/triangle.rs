@@ -92,6 +92,13 @@ impl Triangle4 {
         packet
     }
 
+    /// Triangle `lane`'s first vertex and its two edges, `v0`, `e1` and `e2`.
+    #[inline(always)]
+    pub fn vertex_and_edges(&self, lane: usize) -> ([f32; 3], [f32; 3], [f32; 3]) {
+        let at = |v: &[Vec4; 3]| v.map(|axis| axis[lane]);
+        (at(&self.v0), at(&self.e1), at(&self.e2))
+    }
+
     /// The nearest of the four hits with `t` in `(t_min, t_max)`; with `ANY`, the first lane
     /// that hits. `o` and `d` are the ray's coordinates splatted across lanes. Every comparison
     /// is written so that a NaN (from `det ≈ 0`) rejects the lane.
