@@ -117,6 +117,8 @@ pub(super) struct Inputs {
     lamp_normal: V8,
     lamp_area: F8,
     light_u: [F8; 2],
+    /// The lanes whose environment map [`sample_sky`] samples.
+    sky: [bool; LANES],
     pub(super) u: [F8; 2],
 }
 
@@ -193,10 +195,7 @@ pub struct DiffuseQueue<'a> {
     /// The lamp whose fields fill every lane's lamp fields, left by an earlier group's
     /// [`DiffuseQueue::fill_lamps`] (a group of the same lamp then writes none of them).
     filled_lamp: Option<&'a EmitterParallelogram>,
-    /// The lanes whose environment map [`sample_sky`] samples (one bit each, kept here rather
-    /// than in `inputs`, so that no other vertex writes it), and the map (a scene has one at
-    /// most).
-    sky_lanes: u8,
+    /// The environment map of the queued sky lanes (a scene has one at most).
     sky: Option<&'a Environment>,
     /// Where the kernel writes, kept from group to group (the kernel sets every field it
     /// reads back; clearing them for each group cost a tenth of the write-back).
@@ -216,22 +215,37 @@ enum QueuedLamps<'a> {
     Mixed,
 }
 
+/// Which of the group's samplers draws a lane's light sample: [`sample_lamps`] in the kernel,
+/// or [`sample_sky`] for the group before it.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum GroupLight {
+    Lamp,
+    Sky,
+}
+
 impl Inputs {
     /// Lane `lane`'s light sample, `light` (`has_light` false: none, `light` harmless values).
     #[inline(always)]
     fn set_light(&mut self, lane: usize, has_light: bool, light: &LightPoint) {
-        self.set_light_but_ray(lane, has_light, false, light);
+        self.set_light_but_ray(lane, has_light, None, light);
         self.light_wi.set(lane, light.wi);
         self.light_distance.0[lane] = light.distance;
     }
 
     /// Lane `lane`'s light fields but the direction and distance to the light: all of them a
-    /// lamp lane (`lamp`) or a sky lane has before [`sample_lamps`] or [`sample_sky`] samples
-    /// its light, which writes those two.
+    /// lamp or sky lane (`sampled_by` the kernel's lamp or the group's sky) has before
+    /// [`sample_lamps`] or [`sample_sky`] samples its light, which writes those two.
     #[inline(always)]
-    fn set_light_but_ray(&mut self, lane: usize, has_light: bool, lamp: bool, light: &LightPoint) {
+    fn set_light_but_ray(
+        &mut self,
+        lane: usize,
+        has_light: bool,
+        sampled_by: Option<GroupLight>,
+        light: &LightPoint,
+    ) {
         self.has_light[lane] = has_light;
-        self.lamp[lane] = lamp;
+        self.lamp[lane] = sampled_by == Some(GroupLight::Lamp);
+        self.sky[lane] = sampled_by == Some(GroupLight::Sky);
         self.light_radiance.set(lane, light.radiance);
         self.light_pdf.0[lane] = light.pdf;
         self.light_delta[lane] = light.delta;
@@ -298,11 +312,10 @@ impl<'a> DiffuseQueue<'a> {
                     pdf: lamp.probability,
                     ..NO_LIGHT
                 };
-                inputs.set_light_but_ray(lane, false, true, &light);
+                inputs.set_light_but_ray(lane, false, Some(GroupLight::Lamp), &light);
             }
             VertexLight::Sky(sky) => {
                 self.sky = Some(sky.environment);
-                self.sky_lanes |= 1 << lane;
                 inputs.light_u[0].0[lane] = sky.u.x;
                 inputs.light_u[1].0[lane] = sky.u.y;
                 // The density is the probability of choosing the sky, as for a lamp.
@@ -310,7 +323,7 @@ impl<'a> DiffuseQueue<'a> {
                     pdf: sky.probability,
                     ..NO_LIGHT
                 };
-                inputs.set_light_but_ray(lane, false, false, &light);
+                inputs.set_light_but_ray(lane, false, Some(GroupLight::Sky), &light);
             }
         }
         inputs.u[0].0[lane] = vertex.u.x;
@@ -554,36 +567,37 @@ fn sample_lamps(inputs: &mut Inputs) {
 }
 
 impl DiffuseQueue<'_> {
-    /// The sky lanes' light samples, if there are any ([`sample_sky`]); the next group starts
-    /// with none.
-    #[inline(always)]
+    /// The sky lanes' light samples, if there are any ([`sample_sky`]).
     fn sample_sky(&mut self) {
-        if self.sky_lanes != 0
-            && let Some(environment) = self.sky
+        if let Some(environment) = self.sky
+            && self.inputs.sky.contains(&true)
         {
-            sample_sky(&mut self.inputs, self.sky_lanes, environment);
-            self.sky_lanes = 0;
+            sample_sky(&mut self.inputs, environment);
         }
     }
 }
 
-/// The light samples of the lanes whose bit `sky_lanes` has, written where the queued ones are:
-/// the environment map's [`Environment::sample_for_mis_lanes`] with `queued_vertex`'s checks of
-/// the density and the radiance, and the density times the probability of choosing the sky,
-/// in their order.
-fn sample_sky(inputs: &mut Inputs, sky_lanes: u8, environment: &Environment) {
-    let u = inputs.light_u.map(|u| u.0);
-    environment.sample_for_mis_lanes(&u, &mut |lane, sample| {
-        if sky_lanes & (1 << lane) == 0 {
-            return;
-        }
-        inputs.has_light[lane] = sample.pdf > 0.0 && sample.radiance != Vec3::ZERO;
-        inputs.light_wi.set(lane, sample.wi);
-        inputs.light_distance.0[lane] = sample.distance;
-        inputs.light_radiance.set(lane, sample.radiance);
-        // `probability * sample.pdf`.
-        inputs.light_pdf.0[lane] *= sample.pdf;
-    });
+/// The sky lanes' light samples, written where the queued ones are: the environment map's
+/// [`Environment::sample_for_mis_lanes`] with `queued_vertex`'s checks of the density and the
+/// radiance, and the density times the probability of choosing the sky, in their order.
+fn sample_sky(inputs: &mut Inputs, environment: &Environment) {
+    let samples = environment.sample_for_mis_lanes(&inputs.light_u.map(|u| u.0));
+    let lanes = |axes: [[f32; LANES]; 3]| V8 {
+        x: F8(axes[0]),
+        y: F8(axes[1]),
+        z: F8(axes[2]),
+    };
+    let (wi, radiance, pdf) = (lanes(samples.wi), lanes(samples.radiance), F8(samples.pdf));
+    let sampled = M8::from(samples.sampled) & pdf.gt(F8::splat(0.0)) & !radiance.is_zero();
+    let sky = M8::from(inputs.sky);
+    for (lane, has_light) in inputs.has_light.iter_mut().enumerate() {
+        *has_light |= sky.lane(lane) && sampled.lane(lane);
+    }
+    inputs.light_wi = sky.select_v(wi, inputs.light_wi);
+    inputs.light_distance = sky.select(F8::splat(f32::INFINITY), inputs.light_distance);
+    inputs.light_radiance = sky.select_v(radiance, inputs.light_radiance);
+    // `probability * sample.pdf`.
+    inputs.light_pdf = sky.select(inputs.light_pdf * pdf, inputs.light_pdf);
 }
 
 /// Next-event estimation's lanes (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,

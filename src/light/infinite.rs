@@ -17,11 +17,13 @@ use glam::{Mat3, Mat3A, Vec2, Vec3, Vec3A, Vec4};
 use super::LightSample;
 
 mod sample_lanes;
+
 use crate::film::luminance;
 use crate::material::texture::ImageTexture;
 use crate::math;
 use crate::sampling::warp::{uniform_sphere, uniform_sphere_pdf};
 use crate::sampling::{Bilinear2D, BilinearSample, GridCell};
+pub use sample_lanes::SkySamples;
 
 /// The entity's component, as the scene gives it.
 #[derive(Component, Clone, Debug)]
@@ -911,9 +913,17 @@ mod tests {
                 for (lane, v) in chunk.iter().enumerate() {
                     (u[0][lane], u[1][lane]) = (v.x, v.y);
                 }
-                let mut got = [None; LANES];
-                sky.sample_for_mis_lanes(&u, &mut |lane, sample| {
-                    assert!(got[lane].replace(sample).is_none(), "lane {lane} twice");
+                let lanes = sky.sample_for_mis_lanes(&u);
+                let got: [Option<LightSample>; LANES] = std::array::from_fn(|lane| {
+                    lanes.sampled[lane].then(|| LightSample {
+                        wi: Vec3::from_array([0, 1, 2].map(|axis| lanes.wi[axis][lane])),
+                        distance: f32::INFINITY,
+                        radiance: Vec3::from_array(
+                            [0, 1, 2].map(|axis| lanes.radiance[axis][lane]),
+                        ),
+                        pdf: lanes.pdf[lane],
+                        delta: false,
+                    })
                 });
                 // Bits, any NaN as one (from a NaN sample; which NaN an operation passes on
                 // may depend on its operands' order, and the path drops it).

@@ -7,40 +7,61 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::{CellAngle, CellAngles, Environment, EnvironmentMap, LANES};
+use super::{CellAngle, CellAngles, DirectionLanes, Environment, EnvironmentMap, LANES};
 use crate::light::LightSample;
 use crate::math;
 use crate::sampling::GridCell;
 
+/// Eight light samples for MIS ([`Environment::sample_for_mis_lanes`]): lane by lane, whether
+/// [`Environment::sample_for_mis`] gives one, and then its direction, radiance and density
+/// (zeros elsewhere).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SkySamples {
+    pub sampled: [bool; LANES],
+    pub wi: DirectionLanes,
+    pub radiance: DirectionLanes,
+    pub pdf: [f32; LANES],
+}
+
+impl SkySamples {
+    /// Lane `lane`'s `sample`.
+    fn set(&mut self, lane: usize, sample: &LightSample) {
+        self.sampled[lane] = true;
+        self.pdf[lane] = sample.pdf;
+        for axis in 0..3 {
+            self.wi[axis][lane] = sample.wi[axis];
+            self.radiance[axis][lane] = sample.radiance[axis];
+        }
+    }
+}
+
 impl Environment {
-    /// [`Environment::sample_for_mis`] of eight 2D samples (`u`: their x and y), to the bit:
-    /// `sampled_lane` is given each lane's sample where it gives one. Four at a time
+    /// [`Environment::sample_for_mis`] of eight 2D samples (`u`: their x and y), to the bit.
+    /// Four at a time
     /// ([`EnvironmentMap::sample_four`]) where the map's cells have angles and its transform
     /// keeps lengths (a sky's rotation), else one by one. For the queued vertices' light
     /// samples, taken together: one at a time they were about 280 instructions each.
-    pub fn sample_for_mis_lanes(
-        &self,
-        u: &[[f32; LANES]; 2],
-        sampled_lane: &mut dyn FnMut(usize, LightSample),
-    ) {
+    pub fn sample_for_mis_lanes(&self, u: &[[f32; LANES]; 2]) -> SkySamples {
+        let mut samples = SkySamples::default();
         let Some(map) = &self.map else {
-            return;
+            return samples;
         };
         match &map.cell_angles {
             Some(angles) if map.keeps_lengths => {
                 for half in 0..2 {
                     let u = u.map(|axis| Vec4::from_slice(&axis[4 * half..][..4]));
-                    map.sample_four(self.radiance, angles, u, half, sampled_lane);
+                    map.sample_four(self.radiance, angles, u, half, &mut samples);
                 }
             }
             _ => {
                 for (lane, (&x, &y)) in u[0].iter().zip(&u[1]).enumerate() {
                     if let Some(sample) = self.sample_from(Vec2::new(x, y), true) {
-                        sampled_lane(lane, sample);
+                        samples.set(lane, &sample);
                     }
                 }
             }
         }
+        samples
     }
 }
 
@@ -51,14 +72,14 @@ impl EnvironmentMap {
     /// cells' angles `angles` (each lane's read alone), [`CellAngle::at`]'s addition formulas and
     /// the rotation into the world (a transform that keeps lengths: no normalisation); each
     /// sampled lane's radiance is read alone ([`EnvironmentMap::radiance_in`]).
-    #[inline(always)]
+    #[inline(never)]
     fn sample_four(
         &self,
         sky_radiance: Vec3,
         angles: &CellAngles,
         u: [Vec4; 2],
         half: usize,
-        sampled_lane: &mut dyn FnMut(usize, LightSample),
+        samples: &mut SkySamples,
     ) {
         let Some(sample) = self.table(true).sample_four(u) else {
             return;
@@ -101,9 +122,9 @@ impl EnvironmentMap {
                     row: sample.rows[lane],
                     fraction: Vec2::new(tx[lane], ty[lane]),
                 });
-            sampled_lane(
+            samples.set(
                 4 * half + lane,
-                LightSample {
+                &LightSample {
                     wi: Vec3::new(wi[0][lane], wi[1][lane], wi[2][lane]),
                     distance: f32::INFINITY,
                     radiance,
