@@ -111,17 +111,18 @@ pub(crate) fn select_lanes(mask: BVec4A, if_true: Vec4, if_false: Vec4) -> Vec4 
 
 /// sin x and cos x for |x| <= pi/4 without range reduction: the minimax polynomials of Cephes'
 /// `sinf.c` (S. L. Moshier), which Dr.Jit's `sincos` also evaluates, good to about 1 ulp there.
-/// Generic over the number type so that the shading stage's eight-lane kernel evaluates the
-/// very same operations on each lane.
+/// Generic over the number type so that the shading stage's eight-lane kernel and the
+/// environment map's four-lane light samples (glam's `Vec4`) evaluate the very same operations
+/// on each lane (a constant's product with x^2 is the same either way round).
 pub fn sin_cos_eighth_turn<T>(x: T) -> (T, T)
 where
-    T: Copy + From<f32> + Add<Output = T> + Sub<Output = T> + Mul<Output = T>,
+    T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T> + Mul<f32, Output = T>,
+    f32: Add<T, Output = T> + Sub<T, Output = T>,
 {
-    let k = T::from;
     let x2 = x * x;
-    let sin = x + x * x2 * (k(-1.666_665_5e-1) + x2 * (k(8.332_161e-3) + x2 * k(-1.951_529_6e-4)));
-    let cos = k(1.0) - k(0.5) * x2
-        + x2 * x2 * (k(4.166_664_6e-2) + x2 * (k(-1.388_731_6e-3) + x2 * k(2.443_315_7e-5)));
+    let sin = x + x * x2 * (-1.666_665_5e-1 + x2 * (8.332_161e-3 + x2 * -1.951_529_6e-4));
+    let cos =
+        1.0 - x2 * 0.5 + x2 * x2 * (4.166_664_6e-2 + x2 * (-1.388_731_6e-3 + x2 * 2.443_315_7e-5));
     (sin, cos)
 }
 

@@ -29,6 +29,7 @@ use super::shade_path::russian_roulette;
 use super::shading::{PathBlock, PathSlots, ShadowRay};
 use crate::accel::vex;
 use crate::light::area::EmitterParallelogram;
+use crate::light::infinite::Environment;
 
 /// A light sample for a vertex: the direction and distance to the light point, its radiance
 /// and the density of choosing it (light selection times the light's own density).
@@ -53,13 +54,24 @@ pub struct LampPoint<'a> {
     pub u: Vec2,
 }
 
-/// A vertex's next-event estimation: no light sample, one drawn, or a lamp for the kernel to
-/// sample.
+/// An environment map chosen for a vertex, to be sampled with the group's other such vertices
+/// ([`Environment::sample_for_mis_lanes`]): the light, the probability of choosing it and the
+/// 2D sample for its direction.
+#[derive(Clone, Copy, Debug)]
+pub struct SkyPoint<'a> {
+    pub environment: &'a Environment,
+    pub probability: f32,
+    pub u: Vec2,
+}
+
+/// A vertex's next-event estimation: no light sample, one drawn, or a lamp or an environment
+/// map for the group to sample.
 #[derive(Clone, Copy, Debug)]
 pub enum VertexLight<'a> {
     None,
     Point(LightPoint),
     Lamp(LampPoint<'a>),
+    Sky(SkyPoint<'a>),
 }
 
 /// What finishing a Lambertian vertex needs: the surface (normals turned to face `wo`), the
@@ -97,14 +109,16 @@ pub(super) struct Inputs {
     light_pdf: F8,
     light_delta: [bool; LANES],
     /// The lanes whose lamp the kernel samples, the lamps and the 2D samples for their
-    /// points (stale values elsewhere).
+    /// points (stale values elsewhere); `light_u` holds the sky lanes' samples too.
     lamp: [bool; LANES],
     lamp_corner: V8,
     lamp_edge1: V8,
     lamp_edge2: V8,
     lamp_normal: V8,
     lamp_area: F8,
-    lamp_u: [F8; 2],
+    light_u: [F8; 2],
+    /// The lanes whose environment map [`sample_sky`] samples.
+    sky: [bool; LANES],
     pub(super) u: [F8; 2],
 }
 
@@ -181,6 +195,8 @@ pub struct DiffuseQueue<'a> {
     /// The lamp whose fields fill every lane's lamp fields, left by an earlier group's
     /// [`DiffuseQueue::fill_lamps`] (a group of the same lamp then writes none of them).
     filled_lamp: Option<&'a EmitterParallelogram>,
+    /// The environment map of the queued sky lanes (a scene has one at most).
+    sky: Option<&'a Environment>,
     /// Where the kernel writes, kept from group to group (the kernel sets every field it
     /// reads back; clearing them for each group cost a tenth of the write-back).
     outputs: Outputs,
@@ -199,21 +215,37 @@ enum QueuedLamps<'a> {
     Mixed,
 }
 
+/// Which of the group's samplers draws a lane's light sample: [`sample_lamps`] in the kernel,
+/// or [`sample_sky`] for the group before it.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum GroupLight {
+    Lamp,
+    Sky,
+}
+
 impl Inputs {
     /// Lane `lane`'s light sample, `light` (`has_light` false: none, `light` harmless values).
     #[inline(always)]
     fn set_light(&mut self, lane: usize, has_light: bool, light: &LightPoint) {
-        self.set_light_but_ray(lane, has_light, false, light);
+        self.set_light_but_ray(lane, has_light, None, light);
         self.light_wi.set(lane, light.wi);
         self.light_distance.0[lane] = light.distance;
     }
 
     /// Lane `lane`'s light fields but the direction and distance to the light: all of them a
-    /// lamp lane (`lamp`) has before [`sample_lamps`] samples its lamp, which writes those two.
+    /// lamp or sky lane (`sampled_by` the kernel's lamp or the group's sky) has before
+    /// [`sample_lamps`] or [`sample_sky`] samples its light, which writes those two.
     #[inline(always)]
-    fn set_light_but_ray(&mut self, lane: usize, has_light: bool, lamp: bool, light: &LightPoint) {
+    fn set_light_but_ray(
+        &mut self,
+        lane: usize,
+        has_light: bool,
+        sampled_by: Option<GroupLight>,
+        light: &LightPoint,
+    ) {
         self.has_light[lane] = has_light;
-        self.lamp[lane] = lamp;
+        self.lamp[lane] = sampled_by == Some(GroupLight::Lamp);
+        self.sky[lane] = sampled_by == Some(GroupLight::Sky);
         self.light_radiance.set(lane, light.radiance);
         self.light_pdf.0[lane] = light.pdf;
         self.light_delta[lane] = light.delta;
@@ -271,8 +303,8 @@ impl<'a> DiffuseQueue<'a> {
                         inputs.set_lamp(lane, lamp.lamp);
                     }
                 }
-                inputs.lamp_u[0].0[lane] = lamp.u.x;
-                inputs.lamp_u[1].0[lane] = lamp.u.y;
+                inputs.light_u[0].0[lane] = lamp.u.x;
+                inputs.light_u[1].0[lane] = lamp.u.y;
                 // No light sample yet; the density is the probability of choosing the lamp,
                 // which `sample_lamps` multiplies by its point's.
                 let light = LightPoint {
@@ -280,7 +312,18 @@ impl<'a> DiffuseQueue<'a> {
                     pdf: lamp.probability,
                     ..NO_LIGHT
                 };
-                inputs.set_light_but_ray(lane, false, true, &light);
+                inputs.set_light_but_ray(lane, false, Some(GroupLight::Lamp), &light);
+            }
+            VertexLight::Sky(sky) => {
+                self.sky = Some(sky.environment);
+                inputs.light_u[0].0[lane] = sky.u.x;
+                inputs.light_u[1].0[lane] = sky.u.y;
+                // The density is the probability of choosing the sky, as for a lamp.
+                let light = LightPoint {
+                    pdf: sky.probability,
+                    ..NO_LIGHT
+                };
+                inputs.set_light_but_ray(lane, false, Some(GroupLight::Sky), &light);
             }
         }
         inputs.u[0].0[lane] = vertex.u.x;
@@ -314,6 +357,7 @@ impl<'a> DiffuseQueue<'a> {
         bsdf_lanes: impl FnOnce(&Inputs, &mut Outputs),
     ) {
         self.fill_lamps();
+        self.sample_sky();
         let out = &mut self.outputs;
         run_kernels(&mut self.inputs, out, bsdf_lanes);
         let carrying = out.next.carrying();
@@ -491,7 +535,7 @@ fn sample_lamps(inputs: &mut Inputs) {
         inputs.lamp_corner,
         inputs.lamp_normal,
     );
-    let (e1, e2, [ux, uy]) = (inputs.lamp_edge1, inputs.lamp_edge2, inputs.lamp_u);
+    let (e1, e2, [ux, uy]) = (inputs.lamp_edge1, inputs.lamp_edge2, inputs.light_u);
     let lit = !(p - corner).dot(normal).le(zero);
     let point = V8 {
         x: corner.x + e1.x * ux + e2.x * uy,
@@ -520,6 +564,40 @@ fn sample_lamps(inputs: &mut Inputs) {
     inputs.light_distance = lamp.select(distance, inputs.light_distance);
     // `probability * sample.pdf`.
     inputs.light_pdf = lamp.select(inputs.light_pdf * pdf, inputs.light_pdf);
+}
+
+impl DiffuseQueue<'_> {
+    /// The sky lanes' light samples, if there are any ([`sample_sky`]).
+    fn sample_sky(&mut self) {
+        if let Some(environment) = self.sky
+            && self.inputs.sky.contains(&true)
+        {
+            sample_sky(&mut self.inputs, environment);
+        }
+    }
+}
+
+/// The sky lanes' light samples, written where the queued ones are: the environment map's
+/// [`Environment::sample_for_mis_lanes`] with `queued_vertex`'s checks of the density and the
+/// radiance, and the density times the probability of choosing the sky, in their order.
+fn sample_sky(inputs: &mut Inputs, environment: &Environment) {
+    let samples = environment.sample_for_mis_lanes(&inputs.light_u.map(|u| u.0));
+    let lanes = |axes: [[f32; LANES]; 3]| V8 {
+        x: F8(axes[0]),
+        y: F8(axes[1]),
+        z: F8(axes[2]),
+    };
+    let (wi, radiance, pdf) = (lanes(samples.wi), lanes(samples.radiance), F8(samples.pdf));
+    let sampled = M8::from(samples.sampled) & pdf.gt(F8::splat(0.0)) & !radiance.is_zero();
+    let sky = M8::from(inputs.sky);
+    for (lane, has_light) in inputs.has_light.iter_mut().enumerate() {
+        *has_light |= sky.lane(lane) && sampled.lane(lane);
+    }
+    inputs.light_wi = sky.select_v(wi, inputs.light_wi);
+    inputs.light_distance = sky.select(F8::splat(f32::INFINITY), inputs.light_distance);
+    inputs.light_radiance = sky.select_v(radiance, inputs.light_radiance);
+    // `probability * sample.pdf`.
+    inputs.light_pdf = sky.select(inputs.light_pdf * pdf, inputs.light_pdf);
 }
 
 /// Next-event estimation's lanes (`Bsdf::eval_and_pdf_unit_wo`, `finite_or_zero`,
@@ -570,6 +648,8 @@ pub(super) mod tests {
     use super::*;
     use crate::bsdf::frame::Frame;
     use crate::bsdf::{Bsdf, unit_direction};
+    use crate::light::infinite::InfiniteLight;
+    use crate::material::texture::ImageTexture;
     use crate::math::offset_ray_origin;
     use crate::sampling::PathRng;
     use crate::sampling::warp::{power_heuristic, uniform_sphere};
@@ -596,10 +676,34 @@ pub(super) mod tests {
     /// A vertex with random normals, directions, light and sample, and now and then what the
     /// scalar path treats as a special case: no light, a delta light, a lamp (seen from
     /// either side), a zero or tiny `wo`, the disk's centre, a NaN or out-of-range sample.
+    /// A sky of distinct texels (some black), rotated.
+    fn test_sky() -> Environment {
+        let (w, h) = (32, 16);
+        let texels = (0..w * h)
+            .map(|i| {
+                let v = ((i * 7919) % 13) as f32;
+                Vec3::new(if v < 3.0 { 0.0 } else { v }, (i % w) as f32, 1.0)
+            })
+            .collect();
+        Environment::new(&InfiniteLight {
+            radiance: Vec3::new(1.5, 1.0, 0.5),
+            map: Some(ImageTexture {
+                width: w as u32,
+                height: h as u32,
+                texels: std::sync::Arc::new(texels),
+                scale: Vec2::ONE,
+                delta: Vec2::ZERO,
+                wrap: Default::default(),
+            }),
+            light_to_world: glam::Mat3::from_rotation_y(0.6) * glam::Mat3::from_rotation_x(0.3),
+        })
+    }
+
     fn random_vertex<'a>(
         rng: &mut PathRng,
         i: usize,
         lamps: &'a [EmitterParallelogram],
+        sky: &'a Environment,
     ) -> DiffuseVertex<'a> {
         let n = uniform_sphere(rng.next_2d());
         let geometric_normal = (n + 0.4 * uniform_sphere(rng.next_2d())).normalize();
@@ -620,6 +724,11 @@ pub(super) mod tests {
                     i % lamps.len()
                 }],
                 radiance: if i % 11 == 1 { Vec3::ZERO } else { radiance },
+                probability: rng.next_f32(),
+                u: rng.next_2d(),
+            }),
+            4 if i % 10 == 4 => VertexLight::Sky(SkyPoint {
+                environment: sky,
                 probability: rng.next_f32(),
                 u: rng.next_2d(),
             }),
@@ -676,6 +785,15 @@ pub(super) mod tests {
                     delta: sample.delta,
                 })
             }
+            VertexLight::Sky(sky) => (sky.environment.sample_for_mis(sky.u))
+                .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
+                .map(|sample| LightPoint {
+                    wi: sample.wi,
+                    distance: sample.distance,
+                    radiance: sample.radiance,
+                    pdf: sky.probability * sample.pdf,
+                    delta: sample.delta,
+                }),
         }
     }
 
@@ -710,6 +828,7 @@ pub(super) mod tests {
     fn a_kept_queue_finishes_groups_as_a_new_one_does() {
         let mut rng = PathRng::new(10, 0, 0);
         let lamps = random_lamps(&mut rng);
+        let sky = test_sky();
         // Each group's lamp per lane: one lamp, two, the first alone again, then the second;
         // sixteen times.
         let groups = [[0; LANES], [0, 1, 0, 1, 0, 1, 0, 1], [0; LANES], [1; LANES]];
@@ -724,7 +843,7 @@ pub(super) mod tests {
                         probability: 0.5,
                         u: rng.next_2d(),
                     }),
-                    ..random_vertex(&mut rng, 3, &lamps)
+                    ..random_vertex(&mut rng, 3, &lamps, &sky)
                 })
                 .collect();
             let mut new = DiffuseQueue::default();
@@ -760,6 +879,7 @@ pub(super) mod tests {
         ) -> [Outputs; 2] {
             let (mut baseline, mut dispatched) = (Outputs::default(), Outputs::default());
             self.fill_lamps();
+            self.sample_sky();
             let mut inputs = self.inputs;
             sample_lamps(&mut inputs);
             bsdf_lanes(&inputs, &mut baseline);
@@ -779,10 +899,12 @@ pub(super) mod tests {
     ) -> [usize; 4] {
         let mut rng = PathRng::new(8, 0, 0);
         let lamps = random_lamps(&mut rng);
+        let sky = test_sky();
         let (mut shadows, mut lamp_shadows, mut scattered, mut unsound) = (0, 0, 0, 0);
+        let mut sky_shadows = 0;
         for group in 0..1000 {
             let mut vertices: Vec<DiffuseVertex> = (0..LANES)
-                .map(|lane| random_vertex(&mut rng, group * LANES + lane, &lamps))
+                .map(|lane| random_vertex(&mut rng, group * LANES + lane, &lamps, &sky))
                 .collect();
             let bsdfs: Vec<Bsdf> = (vertices.iter_mut())
                 .map(|vertex| bsdf_of(&mut rng, vertex))
@@ -837,8 +959,10 @@ pub(super) mod tests {
                         assert_eq!(out.shadow_t_max.0[lane].to_bits(), t_max.to_bits());
                         assert_eq!(bits(out.contribution.get(lane)), bits(contribution));
                         shadows += 1;
-                        if let VertexLight::Lamp(_) = v.light {
-                            lamp_shadows += 1;
+                        match v.light {
+                            VertexLight::Lamp(_) => lamp_shadows += 1,
+                            VertexLight::Sky(_) => sky_shadows += 1,
+                            _ => {}
                         }
                     }
                     let next = bsdf
@@ -865,6 +989,8 @@ pub(super) mod tests {
                 }
             }
         }
+        // The sky lanes were exercised too.
+        assert!(sky_shadows > 100, "{sky_shadows}");
         [shadows, lamp_shadows, scattered, unsound]
     }
 }

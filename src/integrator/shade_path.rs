@@ -8,7 +8,9 @@ use glam::Vec3;
 
 use super::batch::{PathBatch, ShadowBatch};
 use super::conductor_lanes::ConductorQueue;
-use super::diffuse_lanes::{DiffuseQueue, DiffuseVertex, LampPoint, LightPoint, VertexLight};
+use super::diffuse_lanes::{
+    DiffuseQueue, DiffuseVertex, LampPoint, LightPoint, SkyPoint, VertexLight,
+};
 use super::escaped_lanes::EscapedQueue;
 use super::glass_lanes::{GlassQueue, GlassVertex};
 use super::lanes::QueuedSurface;
@@ -293,7 +295,8 @@ fn queued_surface(surface: &SurfacePoint, wo: Vec3, path: &PathSlots) -> QueuedS
 
 /// A queued vertex's random numbers and light sample, drawn in the order the scalar path draws
 /// them (light choice, light point, lobe, direction), for the lanes that finish it; a
-/// rectangle lamp sampled by area is left for the kernel to sample, eight vertices at once.
+/// rectangle lamp sampled by area is left for the kernel to sample, eight vertices at once, and
+/// an environment map for the group's sample of it.
 /// `reflectance`: the Lambertian's, or the factor on a conductor's lobe.
 #[inline(always)]
 fn queued_vertex<'a>(
@@ -317,6 +320,14 @@ fn queued_vertex<'a>(
                 VertexLight::Lamp(LampPoint {
                     lamp,
                     radiance: area.radiance(),
+                    probability,
+                    u: u_light,
+                })
+            } else if let Light::Environment(environment) = light
+                && !environment.is_constant()
+            {
+                VertexLight::Sky(SkyPoint {
+                    environment,
                     probability,
                     u: u_light,
                 })

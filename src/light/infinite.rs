@@ -15,11 +15,15 @@ use bevy_ecs::prelude::*;
 use glam::{Mat3, Mat3A, Vec2, Vec3, Vec3A, Vec4};
 
 use super::LightSample;
+
+mod sample_lanes;
+
 use crate::film::luminance;
 use crate::material::texture::ImageTexture;
 use crate::math;
 use crate::sampling::warp::{uniform_sphere, uniform_sphere_pdf};
 use crate::sampling::{Bilinear2D, BilinearSample, GridCell};
+pub use sample_lanes::SkySamples;
 
 /// The entity's component, as the scene gives it.
 #[derive(Component, Clone, Debug)]
@@ -678,7 +682,7 @@ mod tests {
     use std::sync::Arc;
 
     use super::*;
-    use crate::sampling::PathRng;
+    use crate::sampling::{ONE_MINUS_EPSILON, PathRng};
 
     /// A `w` x `h` image of `texels`, rows from the top, unscaled and unwrapped.
     fn image_of(w: usize, h: usize, texels: Vec<Vec3>) -> ImageTexture {
@@ -841,6 +845,105 @@ mod tests {
             for (lane, &d) in chunk.iter().enumerate() {
                 assert_eq!(bits(&got.look_up(lane)), bits(&sky.look_up(d)), "{d}");
             }
+        }
+    }
+
+    /// Light samples in lanes are `sample_for_mis`'s to the bit (whether there is one, its
+    /// direction, radiance and density), four at a time under a rotation (about all three axes)
+    /// and one by one under a transform that scales or on a map too narrow for cell angles, for
+    /// 2D samples all over the square, on and beside its edges, outside it and NaN, on a map of
+    /// distinct texels with black ones (densities of 0, and compensated zeros) and on one that
+    /// is black but for one texel. A lane's operation out of order or a select the wrong way
+    /// round moves some bits.
+    #[test]
+    fn light_samples_in_lanes_are_the_scalar_ones_to_the_bit() {
+        let rotation =
+            Mat3::from_rotation_y(0.6) * Mat3::from_rotation_x(0.3) * Mat3::from_rotation_z(0.2);
+        let distinct = |w: usize, h: usize| {
+            image_of(
+                w,
+                h,
+                (0..w * h)
+                    .map(|i| {
+                        let v = ((i * 7919) % 13) as f32;
+                        Vec3::new(if v < 3.0 { 0.0 } else { v + 0.25 }, (i % w) as f32, 1.0)
+                    })
+                    .collect(),
+            )
+        };
+        let mut one_texel = vec![Vec3::ZERO; 64 * 32];
+        one_texel[5 * 64 + 17] = Vec3::new(30.0, 20.0, 10.0);
+        let skies = [
+            (distinct(64, 32), rotation, true),
+            (image_of(64, 32, one_texel), rotation, true),
+            (distinct(64, 32), rotation * 2.0, false),
+            (distinct(3, 4), rotation, false),
+        ];
+        let mut us: Vec<Vec2> = (0..4000)
+            .map(|k| Vec2::new((k as f32 * 0.618_034).fract(), (k as f32 + 0.5) / 4000.0))
+            .collect();
+        let edges = [
+            0.0,
+            -0.0,
+            1.0,
+            ONE_MINUS_EPSILON,
+            1e-30,
+            -0.25,
+            1.5,
+            f32::NAN,
+            f32::INFINITY,
+            0.5,
+        ];
+        for &x in &edges {
+            for &y in &edges {
+                us.push(Vec2::new(x, y));
+            }
+        }
+        for (image, light_to_world, in_fours) in skies {
+            let sky = Environment::new(&InfiniteLight {
+                radiance: Vec3::new(1.5, 1.0, 0.5),
+                map: Some(image),
+                light_to_world,
+            });
+            let map = sky.map.as_ref().expect("a map");
+            assert_eq!(map.cell_angles.is_some() && map.keeps_lengths, in_fours);
+            let mut sampled = 0;
+            for chunk in us.chunks(LANES) {
+                let mut u = [[0.5; LANES]; 2];
+                for (lane, v) in chunk.iter().enumerate() {
+                    (u[0][lane], u[1][lane]) = (v.x, v.y);
+                }
+                let lanes = sky.sample_for_mis_lanes(&u);
+                let got: [Option<LightSample>; LANES] = std::array::from_fn(|lane| {
+                    lanes.sampled[lane].then(|| LightSample {
+                        wi: Vec3::from_array([0, 1, 2].map(|axis| lanes.wi[axis][lane])),
+                        distance: f32::INFINITY,
+                        radiance: Vec3::from_array(
+                            [0, 1, 2].map(|axis| lanes.radiance[axis][lane]),
+                        ),
+                        pdf: lanes.pdf[lane],
+                        delta: false,
+                    })
+                });
+                // Bits, any NaN as one (from a NaN sample; which NaN an operation passes on
+                // may depend on its operands' order, and the path drops it).
+                let bits = |sample: Option<LightSample>| {
+                    let bits = |x: f32| if x.is_nan() { u32::MAX } else { x.to_bits() };
+                    sample.map(|s| {
+                        (
+                            [s.wi, s.radiance].map(|v| v.to_array().map(bits)),
+                            [s.pdf, s.distance].map(bits),
+                            s.delta,
+                        )
+                    })
+                };
+                for (lane, got) in got.into_iter().enumerate() {
+                    let expected = sky.sample_for_mis(Vec2::new(u[0][lane], u[1][lane]));
+                    assert_eq!(bits(got), bits(expected), "{u:?} {lane}");
+                    sampled += usize::from(expected.is_some());
+                }
+            }
+            assert!(sampled > 3000, "{sampled}");
         }
     }
 

@@ -16,9 +16,12 @@
 //! patch's conditional at that y (linear in x): pbrt-v4's `SampleBilinear`
 //! (`util/sampling.h`).
 
-use glam::Vec2;
+use std::ops::{Add, Mul, Sub};
+
+use glam::{Vec2, Vec4};
 
 use super::{AliasTable, Divisor, ONE_MINUS_EPSILON};
+use crate::math::select_lanes as select;
 
 #[derive(Clone, Debug)]
 pub struct Bilinear2D {
@@ -115,6 +118,41 @@ impl Bilinear2D {
         })
     }
 
+    /// [`Bilinear2D::sample`] of four points (`u`: their x and y), to the bit: the alias
+    /// table's [`AliasTable::sample_index_four`], each lane's corners read alone, and the two
+    /// linear warps and the lerps on the four lanes of glam's `Vec4`, in the same operations.
+    /// For the environment map's light samples taken four at a time.
+    #[inline]
+    pub fn sample_four(&self, u: [Vec4; 2]) -> Option<BilinearFour> {
+        if self.integral <= 0.0 {
+            return None;
+        }
+        let (k, ux) = self.cells.sample_index_four(u[0]);
+        // Plain loops: `array::map` with a bounds check inside was not inlined.
+        let (mut columns, mut rows, mut corners) = ([0; 4], [0; 4], [[0.0; 4]; 4]);
+        for lane in 0..4 {
+            let k = k[lane] as u32;
+            (columns[lane], rows[lane]) = (
+                self.columns.remainder(k) as usize,
+                self.columns.quotient(k) as usize,
+            );
+            let values = self.corners(columns[lane], rows[lane]);
+            for (corner, value) in corners.iter_mut().zip(values) {
+                corner[lane] = value;
+            }
+        }
+        let [v00, v10, v01, v11] = corners.map(Vec4::from_array);
+        let ty = sample_linear_four(u[1], v00 + v10, v01 + v11);
+        let (left, right) = (lerp(v00, v01, ty), lerp(v10, v11, ty));
+        let tx = sample_linear_four(ux, left, right);
+        Some(BilinearFour {
+            pdf: lerp(left, right, tx),
+            columns,
+            rows,
+            fraction: [tx, ty],
+        })
+    }
+
     /// The point at `cell`'s fractions across it.
     pub fn point_in(&self, cell: GridCell) -> Vec2 {
         let (xs, ys) = (&self.xs.positions, &self.ys.positions);
@@ -161,6 +199,17 @@ impl Bilinear2D {
 pub struct BilinearSample {
     pub pdf: f32,
     pub cell: GridCell,
+}
+
+/// Four points drawn by [`Bilinear2D::sample_four`]: lane by lane, what [`BilinearSample`]
+/// holds.
+#[derive(Clone, Copy, Debug)]
+pub struct BilinearFour {
+    pub pdf: Vec4,
+    pub columns: [usize; 4],
+    pub rows: [usize; 4],
+    /// In x and in y.
+    pub fraction: [Vec4; 2],
 }
 
 /// A cell of the grid, between vertices (`column`, `row`) and (`column` + 1, `row` + 1), and a
@@ -223,7 +272,12 @@ impl Axis {
     }
 }
 
-fn lerp(a: f32, b: f32, t: f32) -> f32 {
+/// (1 - t) a + t b, on numbers or on glam's `Vec4` lanes.
+fn lerp<T>(a: T, b: T, t: T) -> T
+where
+    T: Copy + Add<Output = T> + Mul<Output = T>,
+    f32: Sub<T, Output = T>,
+{
     (1.0 - t) * a + t * b
 }
 
@@ -237,6 +291,21 @@ fn sample_linear(u: f32, a: f32, b: f32) -> f32 {
         return u.min(ONE_MINUS_EPSILON);
     }
     (u * (a + b) / denominator).clamp(0.0, ONE_MINUS_EPSILON)
+}
+
+/// [`sample_linear`] on four lanes, to the bit: both of its results computed and one selected;
+/// `f32::min` (a NaN u gives the other operand) and `f32::clamp` (a NaN stays NaN) as selects.
+fn sample_linear_four(u: Vec4, a: Vec4, b: Vec4) -> Vec4 {
+    let (zero, below_one) = (Vec4::ZERO, Vec4::splat(ONE_MINUS_EPSILON));
+    let denominator = a + ((1.0 - u) * a * a + u * b * b).sqrt();
+    let t = u * (a + b) / denominator;
+    let t = select(t.cmplt(zero), zero, t);
+    let t = select(t.cmpgt(below_one), below_one, t);
+    select(
+        denominator.cmple(zero),
+        select(u.cmplt(below_one), u, below_one),
+        t,
+    )
 }
 
 #[cfg(test)]
@@ -378,6 +447,60 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Four samples in lanes are `sample`'s to the bit (density, cell, fractions), on the
+    /// uneven grid with its zero corner, for points all over the square, on and beside its
+    /// edges, outside it and NaN; through the alias table's lanes (`sample_index_four`) and both
+    /// linear warps, whose degenerate case (both ends zero) the zero corner reaches.
+    #[test]
+    fn samples_in_lanes_are_the_scalar_ones_to_the_bit() {
+        let d = grid();
+        let edges = [
+            0.0,
+            -0.0,
+            1.0,
+            ONE_MINUS_EPSILON,
+            1e-30,
+            -0.25,
+            1.5,
+            f32::NAN,
+            0.5,
+        ];
+        let mut us: Vec<Vec2> = (0..4000)
+            .map(|k| Vec2::new((k as f32 * 0.618_034).fract(), (k as f32 + 0.5) / 4000.0))
+            .collect();
+        us.extend(edges.iter().flat_map(|&x| edges.map(|y| Vec2::new(x, y))));
+        let bits = |x: f32| if x.is_nan() { u32::MAX } else { x.to_bits() };
+        for chunk in us.chunks(4) {
+            let u = [0, 1].map(|axis| {
+                Vec4::from_array(std::array::from_fn(|lane| {
+                    chunk.get(lane).map_or(0.5, |u| u.to_array()[axis])
+                }))
+            });
+            let got = d.sample_four(u).unwrap();
+            for lane in 0..4 {
+                let expected = d.sample(Vec2::new(u[0][lane], u[1][lane])).unwrap();
+                let cell = expected.cell;
+                assert_eq!(
+                    (
+                        bits(got.pdf[lane]),
+                        got.columns[lane],
+                        got.rows[lane],
+                        got.fraction.map(|t| bits(t[lane]))
+                    ),
+                    (
+                        bits(expected.pdf),
+                        cell.column,
+                        cell.row,
+                        cell.fraction.to_array().map(bits)
+                    ),
+                    "{u:?} {lane}"
+                );
+            }
+        }
+        let zero = Bilinear2D::new(&[0.0; 4], vec![0.0, 1.0], vec![0.0, 1.0]);
+        assert!(zero.sample_four([Vec4::splat(0.5); 2]).is_none());
     }
 
     #[test]

@@ -15,7 +15,7 @@ pub mod spherical_rectangle;
 pub mod warp;
 
 pub use alias::AliasTable;
-pub use bilinear::{Bilinear2D, BilinearSample, GridCell};
+pub use bilinear::{Bilinear2D, BilinearFour, BilinearSample, GridCell};
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
 pub use first_draws::{FirstDraws, PathDraws};
