@@ -28,6 +28,7 @@ use super::lanes::{
 use super::shade_path::russian_roulette;
 use super::shading::{PathBlock, PathSlots, ShadowRay};
 use crate::accel::vex;
+use crate::light::LightSample;
 use crate::light::area::EmitterParallelogram;
 use crate::light::infinite::Environment;
 
@@ -41,6 +42,22 @@ pub struct LightPoint {
     pub pdf: f32,
     /// A point or directional light: weight 1, no MIS.
     pub delta: bool,
+}
+
+impl LightPoint {
+    /// A light's `sample`, the light chosen with `probability`: none unless it carries light
+    /// (a positive density and radiance), and its density times the probability.
+    pub fn chosen(sample: Option<LightSample>, probability: f32) -> Option<LightPoint> {
+        sample
+            .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
+            .map(|sample| LightPoint {
+                wi: sample.wi,
+                distance: sample.distance,
+                radiance: sample.radiance,
+                pdf: probability * sample.pdf,
+                delta: sample.delta,
+            })
+    }
 }
 
 /// A rectangle lamp chosen for a vertex, to be sampled uniformly by area in the kernel
@@ -772,28 +789,13 @@ pub(super) mod tests {
         match vertex.light {
             VertexLight::None => None,
             VertexLight::Point(light) => Some(light),
-            VertexLight::Lamp(lamp) => {
-                (lamp
-                    .lamp
-                    .sample(vertex.surface.position, lamp.u, lamp.radiance))
-                .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
-                .map(|sample| LightPoint {
-                    wi: sample.wi,
-                    distance: sample.distance,
-                    radiance: sample.radiance,
-                    pdf: lamp.probability * sample.pdf,
-                    delta: sample.delta,
-                })
+            VertexLight::Lamp(lamp) => LightPoint::chosen(
+                (lamp.lamp).sample(vertex.surface.position, lamp.u, lamp.radiance),
+                lamp.probability,
+            ),
+            VertexLight::Sky(sky) => {
+                LightPoint::chosen(sky.environment.sample_for_mis(sky.u), sky.probability)
             }
-            VertexLight::Sky(sky) => (sky.environment.sample_for_mis(sky.u))
-                .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
-                .map(|sample| LightPoint {
-                    wi: sample.wi,
-                    distance: sample.distance,
-                    radiance: sample.radiance,
-                    pdf: sky.probability * sample.pdf,
-                    delta: sample.delta,
-                }),
         }
     }
 

@@ -332,18 +332,9 @@ fn queued_vertex<'a>(
                     u: u_light,
                 })
             } else {
-                light
-                    .sample_for_mis(surface.position, u_light)
-                    .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
-                    .map_or(VertexLight::None, |sample| {
-                        VertexLight::Point(LightPoint {
-                            wi: sample.wi,
-                            distance: sample.distance,
-                            radiance: sample.radiance,
-                            pdf: probability * sample.pdf,
-                            delta: sample.delta,
-                        })
-                    })
+                let sample = light.sample_for_mis(surface.position, u_light);
+                LightPoint::chosen(sample, probability)
+                    .map_or(VertexLight::None, VertexLight::Point)
             }
         }
     };

@@ -682,7 +682,7 @@ mod tests {
     use std::sync::Arc;
 
     use super::*;
-    use crate::sampling::{ONE_MINUS_EPSILON, PathRng};
+    use crate::sampling::PathRng;
 
     /// A `w` x `h` image of `texels`, rows from the top, unscaled and unwrapped.
     fn image_of(w: usize, h: usize, texels: Vec<Vec3>) -> ImageTexture {
@@ -879,26 +879,7 @@ mod tests {
             (distinct(64, 32), rotation * 2.0, false),
             (distinct(3, 4), rotation, false),
         ];
-        let mut us: Vec<Vec2> = (0..4000)
-            .map(|k| Vec2::new((k as f32 * 0.618_034).fract(), (k as f32 + 0.5) / 4000.0))
-            .collect();
-        let edges = [
-            0.0,
-            -0.0,
-            1.0,
-            ONE_MINUS_EPSILON,
-            1e-30,
-            -0.25,
-            1.5,
-            f32::NAN,
-            f32::INFINITY,
-            0.5,
-        ];
-        for &x in &edges {
-            for &y in &edges {
-                us.push(Vec2::new(x, y));
-            }
-        }
+        let us = crate::sampling::test_samples_with_edges();
         for (image, light_to_world, in_fours) in skies {
             let sky = Environment::new(&InfiniteLight {
                 radiance: Vec3::new(1.5, 1.0, 0.5),

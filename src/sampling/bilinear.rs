@@ -456,21 +456,7 @@ mod tests {
     #[test]
     fn samples_in_lanes_are_the_scalar_ones_to_the_bit() {
         let d = grid();
-        let edges = [
-            0.0,
-            -0.0,
-            1.0,
-            ONE_MINUS_EPSILON,
-            1e-30,
-            -0.25,
-            1.5,
-            f32::NAN,
-            0.5,
-        ];
-        let mut us: Vec<Vec2> = (0..4000)
-            .map(|k| Vec2::new((k as f32 * 0.618_034).fract(), (k as f32 + 0.5) / 4000.0))
-            .collect();
-        us.extend(edges.iter().flat_map(|&x| edges.map(|y| Vec2::new(x, y))));
+        let us = crate::sampling::test_samples_with_edges();
         let bits = |x: f32| if x.is_nan() { u32::MAX } else { x.to_bits() };
         for chunk in us.chunks(4) {
             let u = [0, 1].map(|axis| {
