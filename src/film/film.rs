@@ -36,6 +36,9 @@ const SPLAT_TABLE: usize = u8::MAX as usize + 1;
 #[derive(Clone, Debug)]
 struct SplatFilter {
     radius: Vec2,
+    /// The radius as (rx, ry, rx, ry): the lanes of [`SplatFilter::footprints_with_avx2`]'s
+    /// spans, loaded as one register.
+    radii: Vec4,
     /// Per axis and entry i: the value at i / SPLAT_TABLE of the radius and the step to the
     /// next entry's, (f_i, f_(i+1) - f_i), side by side so that one 8-byte load reads both.
     /// Fixed-size, so that a `u8` index needs no bounds check.
@@ -55,38 +58,41 @@ impl SplatFilter {
         };
         Self {
             radius,
+            radii: Vec4::new(radius.x, radius.y, radius.x, radius.y),
             tables: [table(0), table(1)],
         }
     }
 
     /// The pixels along `axis` whose centres lie within the radius of `position` (on a film
-    /// `size` pixels long), and the filter's value at each.
-    #[inline(always)]
+    /// `size` pixels long), and the filter's value at each: one axis alone, the tests'
+    /// reference for [`SplatFilter::footprints`].
+    #[cfg(test)]
     fn footprint(&self, axis: usize, position: f32, size: u32) -> AxisFootprint {
         let (first, count) = footprint_span(position, self.radius[axis], size);
         let first_group = self.values(axis, group_offsets(position, first, 0));
         self.footprint_from(axis, position, (first, count), first_group)
     }
 
-    /// Both axes' footprints of a splat at `position` on a film of `size` pixels, as
-    /// [`SplatFilter::footprint`] gives them; with AVX2, both at once
-    /// ([`SplatFilter::footprints_with_avx2`]).
+    /// Both axes' spans of a splat at `position` on a film of `size` pixels and the filter's
+    /// values at the first four pixels of each, as `SplatFilter::footprint` gives them one axis
+    /// at a time; with AVX2, both at once ([`SplatFilter::footprints_with_avx2`]).
     #[inline(always)]
-    fn footprints(
-        &self,
-        position: Vec2,
-        size: (u32, u32),
-        avx2: Option<Avx2>,
-    ) -> [AxisFootprint; 2] {
+    fn footprints(&self, position: &Vec2, size: (u32, u32), avx2: Option<Avx2>) -> Footprint {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = avx2 {
             return self.footprints_with_avx2(avx2, position, size);
         }
         let _ = avx2;
-        [
-            self.footprint(0, position.x, size.0),
-            self.footprint(1, position.y, size.1),
-        ]
+        let (first_x, count_x) = footprint_span(position.x, self.radius.x, size.0);
+        let (first_y, count_y) = footprint_span(position.y, self.radius.y, size.1);
+        Footprint {
+            first: [first_x, first_y],
+            count: [count_x, count_y],
+            first_groups: [
+                self.values(0, group_offsets(position.x, first_x, 0)),
+                self.values(1, group_offsets(position.y, first_y, 0)),
+            ],
+        }
     }
 
     /// The footprint along `axis` of the pixels `first..first + count`, given the values of its
@@ -154,17 +160,21 @@ impl SplatFilter {
     fn footprints_with_avx2(
         &self,
         _: Avx2,
-        position: Vec2,
+        position: &Vec2,
         (width, height): (u32, u32),
-    ) -> [AxisFootprint; 2] {
+    ) -> Footprint {
         use std::arch::x86_64::*;
         const ENTRIES: f32 = SPLAT_TABLE as f32;
-        // SAFETY: the CPU has AVX2 (`Avx2`). The gathers read the entries (i & 255) + 256 axis
-        // of the two tables, which lie side by side: within the 2 x 256 entries.
+        // SAFETY: the CPU has AVX2 (`Avx2`). `position`'s eight bytes are read as one unaligned
+        // i64. The gathers read the entries (i & 255) + 256 axis of the two tables, which lie
+        // side by side: within the 2 x 256 entries.
         unsafe {
             // Lanes (x, y, x, y): the spans' low bounds in the first two, high in the last two.
-            let position4 = Vec4::new(position.x, position.y, position.x, position.y);
-            let radius = Vec4::new(self.radius.x, self.radius.y, self.radius.x, self.radius.y);
+            // (x, y) as one 64-bit lane, twice: one load rather than a load a lane (a `Vec2` is
+            // `repr(C)`, x then y, eight bytes).
+            let xy = std::ptr::from_ref(position).cast::<i64>().read_unaligned();
+            let position4 = Vec4::from(_mm_castsi128_ps(_mm_set1_epi64x(xy)));
+            let radius = self.radii;
             let centred = position4 - 0.5;
             let (low, high) = (centred - radius, centred + radius);
             let size = Vec4::new(width as f32, height as f32, 0.0, 0.0);
@@ -218,12 +228,14 @@ impl SplatFilter {
             let low = _mm256_shuffle_ps::<0b10_00_10_00>(first_pairs, second_pairs);
             let step = _mm256_shuffle_ps::<0b11_01_11_01>(first_pairs, second_pairs);
             let values = _mm256_and_ps(inside, _mm256_add_ps(low, _mm256_mul_ps(step, t)));
-            let x_group = Vec4::from(_mm256_castps256_ps128(values));
-            let y_group = Vec4::from(_mm256_extractf128_ps::<1>(values));
-            [
-                self.footprint_from(0, position.x, (first_x as usize, count_x as usize), x_group),
-                self.footprint_from(1, position.y, (first_y as usize, count_y as usize), y_group),
-            ]
+            Footprint {
+                first: [first_x as usize, first_y as usize],
+                count: [count_x as usize, count_y as usize],
+                first_groups: [
+                    Vec4::from(_mm256_castps256_ps128(values)),
+                    Vec4::from(_mm256_extractf128_ps::<1>(values)),
+                ],
+            }
         }
     }
 }
@@ -236,6 +248,27 @@ fn group_offsets(position: f32, first: usize, group: usize) -> Vec4 {
     let group_first = (first + 4 * group) as i32 as f32;
     let centres = Vec4::splat(group_first) + Vec4::new(0.5, 1.5, 2.5, 3.5);
     Vec4::splat(position) - centres
+}
+
+/// Both axes of a splat's footprint as [`SplatFilter::footprints`] gives them: per axis, the
+/// pixels `first..first + count` and the filter's values at the first four (those from `count`
+/// on unused). Small enough to stay in registers: a footprint of at most four pixels on each
+/// axis, the common one, needs nothing more.
+#[derive(Clone, Copy)]
+struct Footprint {
+    first: [usize; 2],
+    count: [usize; 2],
+    first_groups: [Vec4; 2],
+}
+
+impl Footprint {
+    /// The footprint along `axis` with the filter's values at all its pixels, for a splat at
+    /// `position`.
+    #[inline(always)]
+    fn axis(&self, filter: &SplatFilter, axis: usize, position: Vec2) -> AxisFootprint {
+        let span = (self.first[axis], self.count[axis]);
+        filter.footprint_from(axis, position[axis], span, self.first_groups[axis])
+    }
 }
 
 /// One axis of a splat's footprint: pixels `first..first + count` and the filter's value at
@@ -714,31 +747,50 @@ impl<'a> FilmRows<'a> {
             Some(filter) => {
                 // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius: the
                 // filter's values along each axis once per sample, then the footprint's rows.
-                let [xs, ys] = filter.footprints(sample.position, (width, height), avx2);
-                let first = ys.first.max(rows.start);
-                let end = (ys.first + ys.count).min(rows.end);
-                if first >= end || xs.count == 0 {
+                let footprint = filter.footprints(&sample.position, (width, height), avx2);
+                let ([first_x, first_y], [count_x, count_y]) = (footprint.first, footprint.count);
+                let first = first_y.max(rows.start);
+                let end = (first_y + count_y).min(rows.end);
+                if first >= end || count_x == 0 {
                     return true;
                 }
-                let wx = &xs.weights[..xs.count];
-                let wy = &ys.weights[first - ys.first..end - ys.first];
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
-                let start = (first - self.rows.start) * w + xs.first;
-                if let Ok(&wx) = <&[f32; 4]>::try_from(wx) {
-                    // The common footprint, four pixels wide: a row is one group of four,
-                    // without `add_to_row`'s loop and remainder.
-                    let wx = Vec4::from_array(wx);
+                let start = (first - self.rows.start) * w + first_x;
+                if count_x == 4 && count_y <= 4 {
+                    // The common footprint, four pixels wide and at most four tall: its weights
+                    // are the first groups, a row is one group of four, without `add_to_row`'s
+                    // loop and remainder.
+                    let [wx, wy] = footprint.first_groups;
                     // The pixels from the footprint's first to its last, bounds checked once.
-                    let block = &mut self.pass_sums[start..start + (wy.len() - 1) * w + 4];
-                    for (row, &fy) in wy.iter().enumerate() {
-                        // SAFETY: row < wy.len(), so the row's four pixels, from row w, end at
-                        // most at (wy.len() - 1) w + 4, the block's length.
-                        let pixels = unsafe { &mut *block.as_mut_ptr().add(row * w).cast() };
-                        add_to_four(pixels, wx, fy, radiance);
+                    let block = &mut self.pass_sums[start..start + (end - first - 1) * w + 4];
+                    // Not in a build for AVX-512 (`target-cpu=native` on such a CPU): there the
+                    // compiler adds each row's 16 sums below as one 512-bit operation, which
+                    // took less time than the 256-bit pairs (`perf` on dof-sky, 1.3x less in
+                    // `add_sample_runs`); without it, the pairs take fewer instructions.
+                    #[cfg(all(target_arch = "x86_64", not(target_feature = "avx512f")))]
+                    if let Some(avx2) = avx2
+                        && end - first == 4
+                    {
+                        // All four rows (a film's or a band's edge cuts off the others).
+                        add_to_four_by_four_with_avx2(avx2, block, w, (wx, wy), radiance);
+                        return true;
+                    }
+                    // SAFETY: row < end - first, so the row's four pixels, from row w, end at
+                    // most at (end - first - 1) w + 4, the block's length.
+                    let mut row_at = |row: usize| unsafe {
+                        &mut *block.as_mut_ptr().add(row * w).cast::<[PassSum; 4]>()
+                    };
+                    let wy = wy.to_array();
+                    for (row, &fy) in wy[first - first_y..end - first_y].iter().enumerate() {
+                        add_to_four(row_at(row), wx, fy, radiance);
                     }
                     return true;
                 }
+                let xs = footprint.axis(filter, 0, sample.position);
+                let ys = footprint.axis(filter, 1, sample.position);
+                let wx = &xs.weights[..xs.count];
+                let wy = &ys.weights[first - ys.first..end - ys.first];
                 for (row, &fy) in wy.iter().enumerate() {
                     let sums = &mut self.pass_sums[start + row * w..start + row * w + wx.len()];
                     add_to_row(sums, wx, fy, radiance);
@@ -804,6 +856,53 @@ fn add_to_four(pixels: &mut [PassSum; 4], wx: Vec4, fy: f32, radiance: Vec4) {
     let radiance = radiance.to_array();
     for (lane, sum) in pixels.as_flattened_mut().iter_mut().enumerate() {
         *sum += radiance[lane % 4] * weights[lane / 4];
+    }
+}
+
+/// [`add_to_four`] on each row of a footprint four pixels square (rows `stride` pixels apart in
+/// `block`), with AVX2: the 16 weights wx_i fy_j in two 8-lane products, then each pair of
+/// pixels' eight sums in one 8-lane product and sum, lane 4 k + c adding radiance_c w_k. Each
+/// lane the same product and sum as `add_to_four`'s (f32 products and sums commute exactly).
+#[cfg(all(target_arch = "x86_64", not(target_feature = "avx512f")))]
+#[inline(always)]
+fn add_to_four_by_four_with_avx2(
+    _: Avx2,
+    block: &mut [PassSum],
+    stride: usize,
+    (wx, wy): (Vec4, Vec4),
+    radiance: Vec4,
+) {
+    use std::arch::x86_64::*;
+    assert!(
+        block.len() >= 3 * stride + 4,
+        "the block holds the four rows"
+    );
+    // SAFETY: the CPU has AVX2 (`Avx2`). Row j's pixel pair k, from j stride + 2 k, ends at
+    // most at 3 stride + 4, within the block.
+    unsafe {
+        let wx = _mm256_broadcast_ps(&wx.into());
+        let wy = _mm256_castps128_ps256(wy.into());
+        let rows = |j: i32| _mm256_setr_epi32(j, j, j, j, j + 1, j + 1, j + 1, j + 1);
+        // Rows 0 and 1, then rows 2 and 3: row j's weight wx_i fy_j in lane 4 (j % 2) + i.
+        let weights = [
+            _mm256_mul_ps(wx, _mm256_permutevar8x32_ps(wy, rows(0))),
+            _mm256_mul_ps(wx, _mm256_permutevar8x32_ps(wy, rows(2))),
+        ];
+        let radiance = _mm256_broadcast_ps(&radiance.into());
+        let pixels = block.as_mut_ptr().cast::<f32>();
+        for row in 0..4 {
+            for pair in 0..2 {
+                // Pixels k and k + 1 of the row: w_k in lanes 0-3, w_(k+1) in lanes 4-7.
+                let k = (4 * (row % 2) + 2 * pair) as i32;
+                let pair_weights = _mm256_permutevar8x32_ps(
+                    weights[row / 2],
+                    _mm256_setr_epi32(k, k, k, k, k + 1, k + 1, k + 1, k + 1),
+                );
+                let sums = pixels.add(4 * (row * stride + 2 * pair));
+                let added = _mm256_mul_ps(radiance, pair_weights);
+                _mm256_storeu_ps(sums, _mm256_add_ps(_mm256_loadu_ps(sums), added));
+            }
+        }
     }
 }
 
@@ -1098,24 +1197,27 @@ mod tests {
         for filter in filters {
             let filter = SplatFilter::new(&filter);
             for &position in &positions {
-                let both = filter.footprints(position, size, Some(avx2));
+                let with_avx2 = filter.footprints(&position, size, Some(avx2));
+                let without = filter.footprints(&position, size, None);
                 let one_at_a_time = [
                     filter.footprint(0, position.x, size.0),
                     filter.footprint(1, position.y, size.1),
                 ];
-                for (both, one) in both.iter().zip(&one_at_a_time) {
-                    assert_eq!(
-                        (both.first, both.count),
-                        (one.first, one.count),
-                        "{position}"
-                    );
-                    let bits = |f: &AxisFootprint| {
-                        f.weights[..f.count]
-                            .iter()
-                            .map(|w| w.to_bits())
-                            .collect::<Vec<_>>()
-                    };
-                    assert_eq!(bits(both), bits(one), "{position}");
+                for (axis, one) in one_at_a_time.iter().enumerate() {
+                    for both in [&with_avx2, &without].map(|f| f.axis(&filter, axis, position)) {
+                        assert_eq!(
+                            (both.first, both.count),
+                            (one.first, one.count),
+                            "{position}"
+                        );
+                        let bits = |f: &AxisFootprint| {
+                            f.weights[..f.count]
+                                .iter()
+                                .map(|w| w.to_bits())
+                                .collect::<Vec<_>>()
+                        };
+                        assert_eq!(bits(&both), bits(one), "{position}");
+                    }
                 }
             }
         }

@@ -68,8 +68,11 @@ macro_rules! path_batch {
                 let sources = LiveSources {
                     $($field: &self.$field[..n],)*
                 };
-                let (pixel, film_position) = (&self.pixel, &self.film_position);
-                let sample = |slot: usize| {
+                // Slices moved into the closure, not references to the vectors: read through
+                // the closure's shared reference, their pointers and lengths then stay in
+                // registers across the samples' writes rather than being reloaded at each.
+                let (pixel, film_position) = (&self.pixel[..], &self.film_position[..]);
+                let sample = move |slot: usize| {
                     let path = sources.camera_path[slot] as usize;
                     FilmSample {
                         pixel: pixel[path],
