@@ -768,8 +768,9 @@ impl<'a> FilmRows<'a> {
                     // compiler adds each row's 16 sums below as one 512-bit operation, which
                     // took less time than the 256-bit pairs (`perf` on dof-sky, 1.3x less in
                     // `add_sample_runs`); without it, the pairs take fewer instructions.
-                    #[cfg(all(target_arch = "x86_64", not(target_feature = "avx512f")))]
-                    if let Some(avx2) = avx2
+                    #[cfg(target_arch = "x86_64")]
+                    if !cfg!(target_feature = "avx512f")
+                        && let Some(avx2) = avx2
                         && end - first == 4
                     {
                         // All four rows (a film's or a band's edge cuts off the others).
@@ -863,7 +864,7 @@ fn add_to_four(pixels: &mut [PassSum; 4], wx: Vec4, fy: f32, radiance: Vec4) {
 /// `block`), with AVX2: the 16 weights wx_i fy_j in two 8-lane products, then each pair of
 /// pixels' eight sums in one 8-lane product and sum, lane 4 k + c adding radiance_c w_k. Each
 /// lane the same product and sum as `add_to_four`'s (f32 products and sums commute exactly).
-#[cfg(all(target_arch = "x86_64", not(target_feature = "avx512f")))]
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn add_to_four_by_four_with_avx2(
     _: Avx2,
@@ -1155,6 +1156,44 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The 4x4 footprint added with AVX2 against four rows of `add_to_four`: the same sums to
+    /// the bit, in a block whose rows are further apart than four pixels (pixels between rows
+    /// untouched). Built for AVX-512, the film does not take this path, so this is what runs it.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn four_by_four_with_avx2_matches_four_rows() {
+        let Some(avx2) = with_avx2_if_present(|avx2| avx2) else {
+            return;
+        };
+        let stride = 7;
+        let mut rng = crate::sampling::PathRng::new(3, 1, 4);
+        let mut next = || rng.next_f32() * 10.0 - 1.0;
+        for _ in 0..1_000 {
+            let block: Vec<PassSum> = (0..3 * stride + 4)
+                .map(|_| [next(), next(), next(), next()])
+                .collect();
+            let wx = Vec4::new(next(), next(), next(), next());
+            let wy = Vec4::new(next(), next(), next(), next());
+            let radiance = Vec4::new(next(), next(), next(), 1.0);
+            let mut rows = block.clone();
+            for (row, fy) in wy.to_array().into_iter().enumerate() {
+                let pixels = (&mut rows[row * stride..row * stride + 4])
+                    .try_into()
+                    .unwrap();
+                add_to_four(pixels, wx, fy, radiance);
+            }
+            let mut square = block;
+            add_to_four_by_four_with_avx2(avx2, &mut square, stride, (wx, wy), radiance);
+            let bits = |sums: &[PassSum]| {
+                sums.as_flattened()
+                    .iter()
+                    .map(|v| v.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&square), bits(&rows));
         }
     }
 
