@@ -17,6 +17,7 @@ use glam::{Affine3A, Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::integrator::batch::PathBatch;
+use crate::integrator::lanes::F8;
 use crate::scene::build::RenderOptions;
 use crate::scene::desc::CameraDesc;
 
@@ -29,6 +30,9 @@ macro_rules! cameras {
         pub static CAMERAS: &[&CameraType] = &[$(&$camera::CAMERA),*];
     };
 }
+
+mod lanes;
+use lanes::{LANES, Lanes3, load_vec2, load_vec3, store_vec3};
 
 // The registry: one line per camera.
 cameras! {
@@ -185,53 +189,43 @@ impl CameraRays<'_, '_> {
     }
 
     /// As [`CameraRays::generate`] for a camera whose rays all start at its centre (camera-space
-    /// origin 0): `direction` maps a raster position to a camera-space direction. In world space
-    /// every origin is the pose's translation, taken as it is rather than transformed per ray
-    /// (the same value: the linear part times 0 adds only zeros).
-    pub fn generate_from_centre(&mut self, direction: impl Fn(Vec2) -> Vec3 + Sync) {
+    /// origin 0): `directions` maps `LANES` raster positions to their camera-space directions,
+    /// one array per component, so that the projection too runs in the lanes of vector
+    /// registers. In world space every origin is the pose's translation, taken as it is rather
+    /// than transformed per ray (the same value: the linear part times 0 adds only zeros).
+    pub fn generate_from_centre(&mut self, directions: impl Fn([F8; 2]) -> [F8; 3] + Sync) {
+        let camera_lanes = |films: &[Vec2; LANES]| {
+            let [x, y] = load_vec2(films);
+            let [x, y, z] = directions([F8(x), F8(y)]);
+            [x.0, y.0, z.0]
+        };
+        let batch = &mut self.batch;
         match *self.space {
-            GeneratedRaySpace::Camera => write_camera_rays_from_centre(&mut self.batch, direction),
+            GeneratedRaySpace::Camera => {
+                write_rays_from_centre(batch, Vec3::ZERO, |films, rays| {
+                    store_vec3(&camera_lanes(films), rays)
+                })
+            }
             GeneratedRaySpace::World => {
-                write_world_rays_from_centre(&mut self.batch, self.pose.0, direction)
+                let pose = self.pose.0;
+                write_rays_from_centre(batch, pose.translation.into(), |films, rays| {
+                    store_vec3(&lanes_to_world(pose, &camera_lanes(films)), rays)
+                })
             }
         }
     }
 }
 
-/// Rays traced from the camera's centre, camera space (a lens stage moves them): origin 0 and
-/// `direction`'s direction, block by block (a fill and a loop the compiler takes across vector
-/// lanes) rather than zipped path by path.
-fn write_camera_rays_from_centre(batch: &mut PathBatch, direction: impl Fn(Vec2) -> Vec3 + Sync) {
-    let n = batch.len;
-    (
-        batch.film_position[..n].par_chunks(BLOCK),
-        batch.origin[..n].par_chunks_mut(BLOCK),
-        batch.direction[..n].par_chunks_mut(BLOCK),
-    )
-        .into_par_iter()
-        .for_each(|(films, origins, directions)| {
-            origins.fill(Vec3::ZERO);
-            for (film, camera) in films.iter().zip(directions) {
-                *camera = direction(*film);
-            }
-        });
-}
-
-/// Rays per task of [`write_camera_rays_from_centre`].
-const BLOCK: usize = 1024;
-
-/// Rays traced from the camera's centre, world space, [`CameraRays::generate_from_centre`]'s
-/// `direction` moved to world space: `LANES` rays at a time, each step of the transform and the
-/// normalisation done for all of them before the next, so that the compiler takes it across
-/// the lanes of vector registers. The same operations in the same order as
-/// [`direction_to_world`], so the same values.
-fn write_world_rays_from_centre(
+/// Rays traced from the camera's centre `origin`, `directions` writing their directions for
+/// `LANES` film positions at a time (the batch's last group padded with its last film
+/// position, its extra rays dropped). The origins are stored with the directions rather than
+/// filled beforehand: one pass over the columns.
+fn write_rays_from_centre(
     batch: &mut PathBatch,
-    pose: Affine3A,
-    direction: impl Fn(Vec2) -> Vec3 + Sync,
+    origin: Vec3,
+    directions: impl Fn(&[Vec2; LANES], &mut [Vec3; LANES]) + Sync,
 ) {
     let n = batch.len;
-    let centre = Vec3::from(pose.translation);
     (
         batch.film_position[..n].par_chunks(LANES),
         batch.origin[..n].par_chunks_mut(LANES),
@@ -239,42 +233,20 @@ fn write_world_rays_from_centre(
     )
         .into_par_iter()
         .with_min_len(1024 / LANES)
-        .for_each(|(films, origins, directions)| {
-            origins.fill(centre);
-            match <&[Vec2; LANES]>::try_from(films) {
-                Ok(films) => {
-                    let lanes = directions_to_world(pose, films, &direction);
-                    directions.copy_from_slice(&lanes);
-                }
-                // The batch's last few rays.
-                Err(_) => {
-                    for (film, world) in films.iter().zip(directions) {
-                        *world = direction_to_world(pose, direction(*film));
-                    }
-                }
+        .for_each(|(films, origins, rays)| {
+            let group = (films.try_into(), origins.try_into(), rays.try_into());
+            if let (Ok(films), Ok(origins), Ok(rays)) = group {
+                let origins: &mut [Vec3; LANES] = origins;
+                *origins = [origin; LANES];
+                directions(films, rays);
+            } else {
+                let len = films.len();
+                let mut lanes = [Vec3::ZERO; LANES];
+                directions(&std::array::from_fn(|k| films[k.min(len - 1)]), &mut lanes);
+                origins.fill(origin);
+                rays.copy_from_slice(&lanes[..len]);
             }
         });
-}
-
-/// Rays per group of the camera stages' lane kernels: eight f32 lanes of AVX2.
-pub(super) const LANES: usize = 8;
-
-/// `LANES` 3-vectors, one array per component (x, y, z).
-pub(super) type Lanes3 = [[f32; LANES]; 3];
-
-/// [`direction_to_world`] of the camera-space directions `direction` gives for `LANES` film
-/// positions.
-#[inline(always)]
-fn directions_to_world(
-    pose: Affine3A,
-    films: &[Vec2; LANES],
-    direction: impl Fn(Vec2) -> Vec3,
-) -> [Vec3; LANES] {
-    let mut camera: Lanes3 = [[0.0; LANES]; 3];
-    for (k, &film) in films.iter().enumerate() {
-        [camera[0][k], camera[1][k], camera[2][k]] = direction(film).to_array();
-    }
-    lanes_to_world(pose, &camera)
 }
 
 /// [`direction_to_world`] of `LANES` camera-space directions, each step done for all of them
@@ -283,7 +255,7 @@ fn directions_to_world(
 /// x_axis d.x + y_axis d.y + z_axis d.z summed left to right, and `normalize_or_zero`
 /// multiplies by 1 / sqrt((x x + y y) + z z) when that is finite and positive, else gives zero.
 #[inline(always)]
-pub(super) fn lanes_to_world(pose: Affine3A, direction: &Lanes3) -> [Vec3; LANES] {
+pub(super) fn lanes_to_world(pose: Affine3A, direction: &Lanes3) -> Lanes3 {
     let [dx, dy, dz] = direction;
     let m = pose.matrix3;
     let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
@@ -305,13 +277,13 @@ pub(super) fn lanes_to_world(pose: Affine3A, direction: &Lanes3) -> [Vec3; LANES
         y[k] = f32::from_bits((y[k] * rcp).to_bits() & mask);
         z[k] = f32::from_bits((z[k] * rcp).to_bits() & mask);
     }
-    std::array::from_fn(|k| Vec3::new(x[k], y[k], z[k]))
+    [x, y, z]
 }
 
 /// `pose.transform_point3` of `LANES` camera-space points, component by component (the same
 /// values): glam sums ((x_axis p.x + y_axis p.y) + z_axis p.z) + translation.
 #[inline(always)]
-pub(super) fn points_to_world(pose: Affine3A, point: &Lanes3) -> [Vec3; LANES] {
+pub(super) fn points_to_world(pose: Affine3A, point: &Lanes3) -> Lanes3 {
     let [px, py, pz] = point;
     let (m, t) = (pose.matrix3, pose.translation);
     let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
@@ -320,7 +292,7 @@ pub(super) fn points_to_world(pose: Affine3A, point: &Lanes3) -> [Vec3; LANES] {
         y[k] = m.x_axis.y * px[k] + m.y_axis.y * py[k] + m.z_axis.y * pz[k] + t.y;
         z[k] = m.x_axis.z * px[k] + m.y_axis.z * py[k] + m.z_axis.z * pz[k] + t.z;
     }
-    std::array::from_fn(|k| Vec3::new(x[k], y[k], z[k]))
+    [x, y, z]
 }
 
 /// Fills every path's ray from its film position with `project`; ends the path where it gives
@@ -369,6 +341,22 @@ pub fn raster_to_screen(raster: Vec2, width: u32, height: u32, window: [f32; 4])
     )
 }
 
+/// [`raster_to_screen`] of `LANES` raster positions given by their x and y: the same
+/// operations lane by lane (vector registers), so the same values.
+#[inline(always)]
+pub(super) fn raster_to_screen_lanes(
+    [x, y]: [F8; 2],
+    width: u32,
+    height: u32,
+    window: [f32; 4],
+) -> [F8; 2] {
+    let [x_min, x_max, y_min, y_max] = window;
+    [
+        x_min + x / width as f32 * (x_max - x_min),
+        y_max - y / height as f32 * (y_max - y_min),
+    ]
+}
+
 /// The default screen window: the shorter image axis spans [-1, 1].
 pub fn default_screen_window(width: u32, height: u32) -> [f32; 4] {
     let aspect = width as f32 / height as f32;
@@ -397,7 +385,12 @@ mod tests {
             -6 => Vec3::new(0.0, f32::NAN, 1.0),
             _ => film.extend(1.0),
         };
-        let lanes = directions_to_world(pose, &films, direction);
+        let mut camera: Lanes3 = [[0.0; LANES]; 3];
+        for (k, &film) in films.iter().enumerate() {
+            [camera[0][k], camera[1][k], camera[2][k]] = direction(film).to_array();
+        }
+        let mut lanes = [Vec3::ZERO; LANES];
+        store_vec3(&lanes_to_world(pose, &camera), &mut lanes);
         let mut zeros = 0;
         for (film, lane) in films.iter().zip(lanes) {
             let one = direction_to_world(pose, direction(*film));

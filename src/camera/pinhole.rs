@@ -2,10 +2,11 @@
 
 use bevy_ecs::prelude::*;
 
-use super::{CameraRays, 
-    CameraSetup, CameraStage, CameraType, FovRange, raster_to_screen,
+use super::{
+    CameraRays, CameraSetup, CameraStage, CameraType, FovRange, raster_to_screen_lanes,
     register_for,
 };
+use crate::integrator::lanes::F8;
 use crate::settings::RenderSettings;
 
 /// A perspective projection: screen coordinate 1 is at `tan(fov / 2)` on the plane z = 1.
@@ -54,7 +55,7 @@ fn generate_pinhole_rays(
     let tan_half_fov = (camera.fov_degrees.to_radians() * 0.5).tan();
     let (width, height) = (settings.width, settings.height);
     rays.generate_from_centre(|film| {
-        let screen = raster_to_screen(film, width, height, camera.screen_window);
-        (screen * tan_half_fov).extend(1.0)
+        let [x, y] = raster_to_screen_lanes(film, width, height, camera.screen_window);
+        [x * tan_half_fov, y * tan_half_fov, F8::splat(1.0)]
     });
 }

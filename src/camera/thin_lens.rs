@@ -11,12 +11,12 @@ use rayon::prelude::*;
 
 use super::pinhole::{PERSPECTIVE_FOV, Pinhole};
 use super::{
-    CameraPose, CameraSetup, CameraStage, CameraType, LANES, Lanes3, lanes_to_world, points_to_world,
-    register_for,
+    CameraPose, CameraSetup, CameraStage, CameraType, LANES, Lanes3, lanes_to_world, load_vec2,
+    load_vec3, points_to_world, register_for, store_vec3,
 };
 use crate::integrator::batch::PathBatch;
+use crate::integrator::lanes::{F8, concentric_disk};
 use crate::integrator::start_pass::{CameraSampling, LENS_DIMENSION, PassIndex};
-use crate::sampling::warp::concentric_disk;
 
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct ThinLens {
@@ -94,25 +94,45 @@ fn focus_through_thin_lens(
         .into_par_iter()
         .with_min_len(1024 / LANES)
         .for_each(|(pixels, origins, directions)| {
-            // The batch's last group may be short: its missing lanes are computed from pixel
-            // 0's sample and a zero ray, and dropped.
-            let mut lane_pixels = [0; LANES];
-            lane_pixels[..pixels.len()].copy_from_slice(pixels);
-            let (mut origin, mut direction) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
-            for (k, (o, d)) in origins.iter().zip(directions.iter()).enumerate() {
-                [origin[0][k], origin[1][k], origin[2][k]] = o.to_array();
-                [direction[0][k], direction[1][k], direction[2][k]] = d.to_array();
+            let group = (pixels.try_into(), origins.try_into(), directions.try_into());
+            if let (Ok(&pixels), Ok(origins), Ok(directions)) = group {
+                lens.focus_group(pose, sampler.sample_lanes(pixels), origins, directions);
+            } else {
+                // The batch's last group, short: its missing lanes are computed from pixel 0's
+                // sample and a zero ray, and dropped.
+                let (len, mut lane_pixels) = (pixels.len(), [0; LANES]);
+                lane_pixels[..len].copy_from_slice(pixels);
+                let mut lane_origins = [Vec3::ZERO; LANES];
+                lane_origins[..len].copy_from_slice(origins);
+                let mut lane_directions = [Vec3::ZERO; LANES];
+                lane_directions[..len].copy_from_slice(directions);
+                let samples = sampler.sample_lanes(lane_pixels);
+                lens.focus_group(pose, samples, &mut lane_origins, &mut lane_directions);
+                origins.copy_from_slice(&lane_origins[..len]);
+                directions.copy_from_slice(&lane_directions[..len]);
             }
-            let samples = sampler.sample_lanes(lane_pixels);
-            let (world_origins, world_directions) =
-                lens.focus(pose, &samples, &origin, &direction);
-            let len = origins.len();
-            origins.copy_from_slice(&world_origins[..len]);
-            directions.copy_from_slice(&world_directions[..len]);
         });
 }
 
 impl ThinLens {
+    /// [`ThinLens::focus`] of a group of `LANES` camera-space rays in the batch's columns,
+    /// written back in world space.
+    #[inline(always)]
+    fn focus_group(
+        self,
+        pose: Affine3A,
+        samples: [Vec2; LANES],
+        origins: &mut [Vec3; LANES],
+        directions: &mut [Vec3; LANES],
+    ) {
+        let [sample_x, sample_y] = load_vec2(&samples);
+        let samples = [F8(sample_x), F8(sample_y)];
+        let (origin, direction) = (load_vec3(origins), load_vec3(directions));
+        let (world_origin, world_direction) = self.focus(pose, &samples, &origin, &direction);
+        store_vec3(&world_origin, origins);
+        store_vec3(&world_direction, directions);
+    }
+
     /// The world-space rays through the lens of `LANES` camera-space rays, `samples` their
     /// lens samples: each ray's focus point `origin + focal_distance direction`, the lens
     /// point `origin + lens_radius concentric_disk(sample)`, and the ray from the lens point
@@ -121,17 +141,19 @@ impl ThinLens {
     fn focus(
         self,
         pose: Affine3A,
-        samples: &[Vec2; LANES],
+        samples: &[F8; 2],
         origin: &Lanes3,
         direction: &Lanes3,
-    ) -> ([Vec3; LANES], [Vec3; LANES]) {
-        // Shirley-Chiu's concentric map keeps the sampler's stratification on the disk.
-        let on_disk = samples.map(concentric_disk);
-        let mut on_lens: Lanes3 = [[0.0; LANES]; 3];
-        for k in 0..LANES {
-            on_lens[0][k] = on_disk[k].x * self.lens_radius;
-            on_lens[1][k] = on_disk[k].y * self.lens_radius;
-        }
+    ) -> (Lanes3, Lanes3) {
+        // Shirley-Chiu's concentric map keeps the sampler's stratification on the disk; in
+        // lanes (its choices as selects), where the scalar map, called lane after lane, took
+        // branches.
+        let (disk_x, disk_y) = concentric_disk(*samples);
+        let on_lens: Lanes3 = [
+            (disk_x * self.lens_radius).0,
+            (disk_y * self.lens_radius).0,
+            [0.0; LANES],
+        ];
         let (mut lens_point, mut to_focus): (Lanes3, Lanes3) = Default::default();
         for axis in 0..3 {
             for k in 0..LANES {
@@ -151,6 +173,7 @@ impl ThinLens {
 mod tests {
     use super::*;
     use crate::camera::to_world;
+    use crate::sampling::warp;
 
     /// `LANES` rays at once give each ray's own world-space ray to the bit: the thin lens one
     /// ray at a time as pbrt-v4 writes it (focus point, lens point, the ray between them), on
@@ -183,11 +206,16 @@ mod tests {
         };
         let origin = components(|ray| ray.0);
         let direction = components(|ray| ray.1);
-        let (origins, directions) = lens.focus(pose, &samples, &origin, &direction);
+        let lanes = [0, 1].map(|axis| F8(samples.map(|u| u[axis])));
+        let (origin, direction) = lens.focus(pose, &lanes, &origin, &direction);
+        let (mut origins, mut directions) = ([Vec3::ZERO; LANES], [Vec3::ZERO; LANES]);
+        store_vec3(&origin, &mut origins);
+        store_vec3(&direction, &mut directions);
         for k in 0..LANES {
             let (o, d) = rays[k];
             let focus = o + d * lens.focal_distance;
-            let lens_point = o + (concentric_disk(samples[k]) * lens.lens_radius).extend(0.0);
+            let on_disk = warp::concentric_disk(samples[k]);
+            let lens_point = o + (on_disk * lens.lens_radius).extend(0.0);
             let (one_origin, one_direction) = to_world(pose, lens_point, focus - lens_point);
             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
             assert_eq!(bits(origins[k]), bits(one_origin), "origin {k}");

@@ -19,7 +19,7 @@ mod conductor_lanes;
 mod diffuse_lanes;
 mod escaped_lanes;
 mod glass_lanes;
-mod lanes;
+pub(crate) mod lanes;
 pub mod shade_path;
 pub mod shade_raycast;
 pub mod shading;
