@@ -30,7 +30,7 @@ From the points, per scene:
 - seconds to the same error: foton's seconds to reach Mitsuba's relMSE at that count / Mitsuba's.
 
 Writes docs/equal-time.md (or --report), one CSV per scene (configuration, seconds, spp, relmse:
-`foton chart` draws them) and the charts beside them in docs/images/.
+`foton chart` draws them) and the charts beside them in images/ beside the report.
 """
 
 import argparse
@@ -191,7 +191,8 @@ def main():
     mi.set_variant("llvm_ad_rgb")
     cache = REPO / "target/equal-time"
     cache.mkdir(parents=True, exist_ok=True)
-    images = REPO / "docs/images"
+    images = args.report.parent / "images"  # beside the report: a trial run leaves docs/ alone
+    images.mkdir(parents=True, exist_ok=True)
     load_before = os.getloadavg()
     table = []
     for name in args.scenes.split(","):
