@@ -92,6 +92,15 @@ pub(super) fn store_vec3(lanes: &Lanes3, values: &mut [Vec3; LANES]) {
     }
 }
 
+/// The batch's last group, shorter than `LANES`, as a whole group: `values`, then
+/// `T::default()` in the lanes it lacks, whose results are dropped.
+#[inline]
+pub(super) fn short_group<T: Copy + Default>(values: &[T]) -> [T; LANES] {
+    let mut lanes = [T::default(); LANES];
+    lanes[..values.len()].copy_from_slice(values);
+    lanes
+}
+
 /// A register's eight floats, in order.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 #[inline(always)]

@@ -32,7 +32,7 @@ macro_rules! cameras {
 }
 
 mod lanes;
-use lanes::{LANES, Lanes3, load_vec2, load_vec3, store_vec3};
+use lanes::{LANES, Lanes3, load_vec2, load_vec3, short_group, store_vec3};
 
 // The registry: one line per camera.
 cameras! {
@@ -217,8 +217,8 @@ impl CameraRays<'_, '_> {
 }
 
 /// Rays traced from the camera's centre `origin`, `directions` writing their directions for
-/// `LANES` film positions at a time (the batch's last group padded with its last film
-/// position, its extra rays dropped). The origins are stored with the directions rather than
+/// `LANES` film positions at a time (the batch's last group filled out by [`short_group`],
+/// its extra rays dropped). The origins are stored with the directions rather than
 /// filled beforehand: one pass over the columns.
 fn write_rays_from_centre(
     batch: &mut PathBatch,
@@ -240,11 +240,10 @@ fn write_rays_from_centre(
                 *origins = [origin; LANES];
                 directions(films, rays);
             } else {
-                let len = films.len();
                 let mut lanes = [Vec3::ZERO; LANES];
-                directions(&std::array::from_fn(|k| films[k.min(len - 1)]), &mut lanes);
+                directions(&short_group(films), &mut lanes);
                 origins.fill(origin);
-                rays.copy_from_slice(&lanes[..len]);
+                rays.copy_from_slice(&lanes[..films.len()]);
             }
         });
 }

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use super::pinhole::{PERSPECTIVE_FOV, Pinhole};
 use super::{
     CameraPose, CameraSetup, CameraStage, CameraType, LANES, Lanes3, lanes_to_world, load_vec2,
-    load_vec3, points_to_world, register_for, store_vec3,
+    load_vec3, points_to_world, register_for, short_group, store_vec3,
 };
 use crate::integrator::batch::PathBatch;
 use crate::integrator::lanes::{F8, concentric_disk};
@@ -100,13 +100,10 @@ fn focus_through_thin_lens(
             } else {
                 // The batch's last group, short: its missing lanes are computed from pixel 0's
                 // sample and a zero ray, and dropped.
-                let (len, mut lane_pixels) = (pixels.len(), [0; LANES]);
-                lane_pixels[..len].copy_from_slice(pixels);
-                let mut lane_origins = [Vec3::ZERO; LANES];
-                lane_origins[..len].copy_from_slice(origins);
-                let mut lane_directions = [Vec3::ZERO; LANES];
-                lane_directions[..len].copy_from_slice(directions);
-                let samples = sampler.sample_lanes(lane_pixels);
+                let len = pixels.len();
+                let (mut lane_origins, mut lane_directions) =
+                    (short_group(origins), short_group(directions));
+                let samples = sampler.sample_lanes(short_group(pixels));
                 lens.focus_group(pose, samples, &mut lane_origins, &mut lane_directions);
                 origins.copy_from_slice(&lane_origins[..len]);
                 directions.copy_from_slice(&lane_directions[..len]);
