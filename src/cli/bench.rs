@@ -87,6 +87,8 @@ fn print_stages(runs: &[Vec<StageTime>]) {
         );
     }
     println!(
-        "items: camera paths for the chunk start, shadow rays for trace_shadow_rays, live paths otherwise"
+        "items: camera paths for the chunk start, shadow rays for trace_shadow_rays, film samples \
+         for the splat, live paths otherwise; the splat runs on one thread beside the other \
+         stages, so the times overlap"
     );
 }

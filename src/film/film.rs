@@ -1,7 +1,6 @@
 //! Per-pixel accumulation of radiance samples, by filter importance sampling or by splatting.
 
 use bevy_ecs::prelude::Resource;
-use std::ops::Range;
 
 use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
@@ -476,133 +475,34 @@ impl Film {
         }]);
     }
 
-    /// Adds `samples` as [`Film::add_sample`] would one after the other; in parallel when they
-    /// are in pixel order (see [`Film::add_sample_runs`]).
+    /// Adds `samples` as [`Film::add_sample`] would one after the other, in their order: every
+    /// pixel sums its contributions in the order the samples come, so the sums depend only on
+    /// that order. On one thread: the renderer runs a chunk's splat beside the next chunk's first
+    /// stages (see `Renderer::trace_chunk`), which is where its parallelism lies.
     pub fn add_samples(&mut self, samples: &[FilmSample]) {
-        self.add_sample_runs(samples, &[samples.len()]);
-    }
-
-    /// Adds `samples` as [`Film::add_sample`] would one after the other; `run_ends` cuts them
-    /// into runs (where each ends, increasing, the last at `samples.len()`). When every run is in
-    /// pixel order (as the renderer retires a chunk: one run per bounce, a bounce's paths in
-    /// pixel order, which compaction keeps), they are added in parallel over bands of rows: each
-    /// band takes every sample's share of its rows, run after run and in each run's order, so
-    /// every pixel sums its contributions in the same order as the serial loop and the result is
-    /// the same to the bit whatever the number of bands or threads. Otherwise they are added one
-    /// after the other.
-    pub fn add_sample_runs(&mut self, samples: &[FilmSample], run_ends: &[usize]) {
-        assert!(
-            run_ends.is_sorted() && run_ends.last().copied().unwrap_or(0) == samples.len(),
-            "the runs cut the samples"
-        );
-        let width = self.width as usize;
         let n = self.counts.len();
         let splat = self.splat.as_ref();
         let film_size = (self.width, self.height);
-        let max_component = self.max_component;
-        let runs = || {
-            let starts = std::iter::once(0).chain(run_ends.iter().copied());
-            starts
-                .zip(run_ends)
-                .map(|(start, &end)| &samples[start..end])
+        let mut sums = FilmSums {
+            width: self.width as usize,
+            sums: &mut self.sums,
+            pass_sums: &mut self.pass_sums,
+            counts: &mut self.counts,
+            max_component: self.max_component,
         };
-        let in_pixel_order = || runs().all(|run| run.is_sorted_by_key(|sample| sample.pixel));
-        if rayon::current_num_threads() == 1
-            || samples.len() < 2 * MIN_SAMPLES_PER_BAND
-            || !in_pixel_order()
-        {
-            let mut rows = FilmRows::new(
-                0,
-                width,
-                (&mut self.sums, &mut self.pass_sums),
-                &mut self.counts,
-                max_component,
-            );
-            let rejected = with_avx2_if_present(
-                #[inline(always)]
-                |avx2| {
-                    let mut rejected = 0;
-                    for sample in samples {
-                        if (sample.pixel as usize) >= n || !rows.add(film_size, splat, sample, avx2)
-                        {
-                            rejected += 1;
-                        }
+        let rejected = with_avx2_if_present(
+            #[inline(always)]
+            |avx2| {
+                let mut rejected = 0;
+                for sample in samples {
+                    if (sample.pixel as usize) >= n || !sums.add(film_size, splat, sample, avx2) {
+                        rejected += 1;
                     }
-                    rejected
-                },
-            );
-            self.rejected += rejected as u64;
-            return;
-        }
-        // In pixel order, a run's samples outside the film come last, and a sample's own row
-        // (its pixel / width) never decreases along a run: the samples of a run that may touch a
-        // band of rows are one stretch of it, found by binary search. A sample's position lies
-        // in its pixel, row h, so y is in [h, h + 1] and the rows j whose centres are within ry
-        // of it satisfy |j + 0.5 - y| <= ry: h - floor(ry + 0.5) <= j <= h + floor(ry + 0.5).
-        // One row more on each side covers the f32 rounding of the footprint's bounds.
-        let inside = |run: &[FilmSample]| run.partition_point(|sample| (sample.pixel as usize) < n);
-        let outside: usize = runs().map(|run| run.len() - inside(run)).sum();
-        self.rejected += outside as u64;
-        let rows_of = |run: &[FilmSample]| {
-            let run = &run[..inside(run)];
-            let row = |sample: &FilmSample| sample.pixel as usize / width;
-            run.first().zip(run.last()).map(|(a, b)| (row(a), row(b)))
-        };
-        let Some((first_row, last_row)) = runs()
-            .filter_map(rows_of)
-            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
-        else {
-            return;
-        };
-        let reach = splat.map_or(0, |filter| (filter.radius.y + 0.5) as usize + 1);
-        let height = self.height as usize;
-        let first_row = first_row.saturating_sub(reach);
-        let end_row = (last_row + reach + 1).min(height);
-        let rows = end_row - first_row;
-        let bands = (rayon::current_num_threads() * BANDS_PER_THREAD)
-            .min((samples.len() - outside) / MIN_SAMPLES_PER_BAND)
-            .clamp(1, rows);
-        let band_rows = rows.div_ceil(bands);
-        // The stretch of `run` whose own rows lie within `reach` of the band's rows (and in
-        // the film).
-        let band_samples = |band: usize, run: &'_ [FilmSample]| {
-            let low = (first_row + band * band_rows).saturating_sub(reach) * width;
-            let high = ((first_row + (band + 1) * band_rows + reach) * width).min(n);
-            let start = run.partition_point(|sample| (sample.pixel as usize) < low);
-            let end = run.partition_point(|sample| (sample.pixel as usize) < high);
-            start..end.max(start)
-        };
-        let range = first_row * width..end_row * width;
-        let band_pixels = band_rows * width;
-        let rejected: u64 = (
-            self.sums[range.clone()].par_chunks_mut(band_pixels),
-            self.pass_sums[range.clone()].par_chunks_mut(band_pixels),
-            self.counts[range].par_chunks_mut(band_pixels),
-        )
-            .into_par_iter()
-            .enumerate()
-            .map(|(band, (sums, pass_sums, counts))| {
-                let first_row = first_row + band * band_rows;
-                let sums = (sums, pass_sums);
-                let mut rows = FilmRows::new(first_row, width, sums, counts, max_component);
-                with_avx2_if_present(
-                    #[inline(always)]
-                    |avx2| {
-                        let mut rejected = 0;
-                        for run in runs() {
-                            for sample in &run[band_samples(band, run)] {
-                                if rows.reached_by(film_size.1, splat, sample) {
-                                    let added = rows.add(film_size, splat, sample, avx2);
-                                    rejected += u64::from(!added);
-                                }
-                            }
-                        }
-                        rejected
-                    },
-                )
-            })
-            .sum();
-        self.rejected += rejected;
+                }
+                rejected
+            },
+        );
+        self.rejected += rejected as u64;
     }
 
     /// The estimate of every pixel (weighted sum over weight sum); black where nothing arrived.
@@ -633,14 +533,6 @@ impl Film {
     }
 }
 
-/// Bands of rows per thread in [`Film::add_sample_runs`]: two, so that a thread held up elsewhere
-/// leaves a band to the others. A chunk's samples are one per pixel, so its bands' work is even;
-/// each boundary between bands costs the samples within the filter's radius of it, whose
-/// weights both bands compute.
-const BANDS_PER_THREAD: usize = 2;
-/// Samples below which a band is not worth a task.
-const MIN_SAMPLES_PER_BAND: usize = 1024;
-
 /// A radiance sample for the film: its pixel, its raster position, its radiance.
 #[derive(Clone, Copy, Debug)]
 pub struct FilmSample {
@@ -649,12 +541,9 @@ pub struct FilmSample {
     pub radiance: Vec3,
 }
 
-/// Consecutive whole rows of the film's sums and counts.
-struct FilmRows<'a> {
-    /// The rows held, and their pixels (y * width + x): worked out once, so that a sample
-    /// finds whether its pixel is here by comparisons rather than a division by the width.
-    rows: Range<usize>,
-    pixels: Range<usize>,
+/// The film's sums and counts, borrowed apart from its filter.
+struct FilmSums<'a> {
+    width: usize,
     sums: &'a mut [WeightedSum],
     pass_sums: &'a mut [PassSum],
     counts: &'a mut [u64],
@@ -662,45 +551,11 @@ struct FilmRows<'a> {
     max_component: Option<f32>,
 }
 
-impl<'a> FilmRows<'a> {
-    /// The rows from `first_row` that `counts` (whole rows of `width` pixels) covers.
-    fn new(
-        first_row: usize,
-        width: usize,
-        (sums, pass_sums): (&'a mut [WeightedSum], &'a mut [PassSum]),
-        counts: &'a mut [u64],
-        max_component: Option<f32>,
-    ) -> Self {
-        let rows = first_row..first_row + counts.len() / width;
-        Self {
-            pixels: rows.start * width..rows.end * width,
-            rows,
-            sums,
-            pass_sums,
-            counts,
-            max_component,
-        }
-    }
-
-    /// Whether `sample` may add to these rows: its own pixel is here, or its footprint's rows
-    /// (for a filter wider than a pixel) reach here. A band's neighbouring samples mostly do not
-    /// (those within the band's reach but beyond the filter's radius), and are skipped on the
-    /// footprint's span alone, before its weights; [`FilmRows::add`] would add nothing for them.
-    #[inline(always)]
-    fn reached_by(&self, height: u32, splat: Option<&SplatFilter>, sample: &FilmSample) -> bool {
-        if self.pixels.contains(&(sample.pixel as usize)) {
-            return true;
-        }
-        splat.is_some_and(|filter| {
-            let (first, count) = footprint_span(sample.position.y, filter.radius.y, height);
-            first < self.rows.end && first + count > self.rows.start
-        })
-    }
-
-    /// Adds `sample`'s share of these rows: its weighted radiance in the pixels of these rows
-    /// under its footprint, and its count if its own pixel is here. Returns false if the sample
-    /// is invalid (NaN, infinite or negative) and its own pixel is here: the one band that
-    /// counts it as rejected. Inlined into both versions of [`with_avx2_if_present`].
+impl FilmSums<'_> {
+    /// Adds `sample` (whose pixel is in the film): its weighted radiance in the pixels under
+    /// its footprint and its count in its own pixel. Returns false, adding nothing, if the
+    /// sample is invalid (NaN, infinite or negative). Inlined into both versions of
+    /// [`with_avx2_if_present`].
     #[inline(always)]
     fn add(
         &mut self,
@@ -709,20 +564,15 @@ impl<'a> FilmRows<'a> {
         sample: &FilmSample,
         avx2: Option<Avx2>,
     ) -> bool {
-        let w = width as usize;
-        let rows = self.rows.clone();
+        let w = self.width;
         let pixel = sample.pixel as usize;
-        let home = self.pixels.contains(&pixel);
         // Finite and not negative: 0 <= c < inf, false for NaN; three lanes in one compare each.
         let lanes = Vec3A::from(sample.radiance);
         let valid = (lanes.cmpge(Vec3A::ZERO) & lanes.cmplt(Vec3A::INFINITY)).all();
         if !valid {
-            return !home;
+            return false;
         }
-        let offset = self.pixels.start;
-        if home {
-            self.counts[pixel - offset] += 1;
-        }
+        self.counts[pixel] += 1;
         // The largest component only when clamping (without it, the compiler computed the
         // scale max / largest for every sample and selected).
         let radiance = match self.max_component {
@@ -739,59 +589,54 @@ impl<'a> FilmRows<'a> {
         // (r, g, b, 1): times a weight w, the radiance and the weight a pixel adds.
         let radiance = radiance.extend(1.0);
         match splat {
-            None => {
-                if home {
-                    add_to_pixel(&mut self.sums[pixel - offset], radiance);
-                }
-            }
+            None => add_to_pixel(&mut self.sums[pixel], radiance),
             Some(filter) => {
                 // The pixels whose centres c = (x + 0.5, y + 0.5) lie within the radius: the
-                // filter's values along each axis once per sample, then the footprint's rows.
+                // filter's values along each axis once per sample, then the footprint's rows
+                // (within the film).
                 let footprint = filter.footprints(&sample.position, (width, height), avx2);
-                let ([first_x, first_y], [count_x, count_y]) = (footprint.first, footprint.count);
-                let first = first_y.max(rows.start);
-                let end = (first_y + count_y).min(rows.end);
-                if first >= end || count_x == 0 {
+                let ([first_x, first_y], [count_x, rows]) = (footprint.first, footprint.count);
+                if rows == 0 || count_x == 0 {
                     return true;
                 }
                 // The filter is separable: f(dx, 0) f(0, dy) = f(dx, dy) f(0, 0), and the
                 // constant f(0, 0) cancels in sum / weight.
-                let start = (first - self.rows.start) * w + first_x;
-                if count_x == 4 && count_y <= 4 {
+                if count_x == 4 && rows <= 4 {
+                    let start = first_y * w + first_x;
                     // The common footprint, four pixels wide and at most four tall: its weights
                     // are the first groups, a row is one group of four, without `add_to_row`'s
                     // loop and remainder.
                     let [wx, wy] = footprint.first_groups;
                     // The pixels from the footprint's first to its last, bounds checked once.
-                    let block = &mut self.pass_sums[start..start + (end - first - 1) * w + 4];
+                    let block = &mut self.pass_sums[start..start + (rows - 1) * w + 4];
                     // Not in a build for AVX-512 (`target-cpu=native` on such a CPU): there the
                     // compiler adds each row's 16 sums below as one 512-bit operation, which
                     // took less time than the 256-bit pairs (`perf` on dof-sky, 1.3x less in
-                    // `add_sample_runs`); without it, the pairs take fewer instructions.
+                    // `add_samples`); without it, the pairs take fewer instructions.
                     #[cfg(target_arch = "x86_64")]
                     if !cfg!(target_feature = "avx512f")
                         && let Some(avx2) = avx2
-                        && end - first == 4
+                        && rows == 4
                     {
-                        // All four rows (a film's or a band's edge cuts off the others).
+                        // All four rows (the film's edge cuts off the others).
                         add_to_four_by_four_with_avx2(avx2, block, w, (wx, wy), radiance);
                         return true;
                     }
-                    // SAFETY: row < end - first, so the row's four pixels, from row w, end at
-                    // most at (end - first - 1) w + 4, the block's length.
+                    // SAFETY: row < rows, so the row's four pixels, from row w, end at most at
+                    // (rows - 1) w + 4, the block's length.
                     let mut row_at = |row: usize| unsafe {
                         &mut *block.as_mut_ptr().add(row * w).cast::<[PassSum; 4]>()
                     };
                     let wy = wy.to_array();
-                    for (row, &fy) in wy[first - first_y..end - first_y].iter().enumerate() {
+                    for (row, &fy) in wy[..rows].iter().enumerate() {
                         add_to_four(row_at(row), wx, fy, radiance);
                     }
                     return true;
                 }
                 let xs = footprint.axis(filter, 0, sample.position);
                 let ys = footprint.axis(filter, 1, sample.position);
-                let wx = &xs.weights[..xs.count];
-                let wy = &ys.weights[first - ys.first..end - ys.first];
+                let (wx, wy) = (&xs.weights[..xs.count], &ys.weights[..ys.count]);
+                let start = ys.first * w + xs.first;
                 for (row, &fy) in wy.iter().enumerate() {
                     let sums = &mut self.pass_sums[start + row * w..start + row * w + wx.len()];
                     add_to_row(sums, wx, fy, radiance);
@@ -994,81 +839,6 @@ mod tests {
         assert_eq!(film.rejected_samples(), 4);
         assert_eq!(film.samples_per_pixel_min(), 0);
         assert_eq!((film.width(), film.height()), (3, 2));
-    }
-
-    /// The banded parallel splatting against one sample at a time: the same sums, weights,
-    /// counts and rejections to the bit, for filters wider than a pixel and the one-pixel box,
-    /// positions on their pixels' edges, invalid samples and pixels outside the film, at several
-    /// thread counts; with the samples in pixel order (as the renderer retires them, the banded
-    /// path) and in any order, handed over in two calls or as two runs of one.
-    #[test]
-    fn parallel_splatting_matches_serial_to_the_bit() {
-        use crate::film::FilterKind;
-        let (width, height) = (37, 53);
-        let mut rng = crate::sampling::PathRng::new(1, 2, 3);
-        let mut next = || rng.next_f32();
-        let mut samples: Vec<FilmSample> = (0..20_000)
-            .map(|i| {
-                let pixel = (next() * (width * height + 40) as f32) as u32;
-                let (x, y) = (pixel % width, pixel / width);
-                let mut radiance = Vec3::new(next(), next() * 10.0, next() * 1e-3);
-                if i % 997 == 0 {
-                    radiance.x = f32::NAN;
-                }
-                // Every 7th sample on its pixel's top or bottom edge.
-                let dy = if i % 7 == 0 { (i % 2) as f32 } else { next() };
-                FilmSample {
-                    pixel,
-                    position: Vec2::new(x as f32 + next(), y as f32 + dy),
-                    radiance,
-                }
-            })
-            .collect();
-        let filters = [
-            PixelFilter::new(FilterKind::Gaussian { alpha: 2.0 }, Vec2::splat(2.0)),
-            PixelFilter::new(
-                FilterKind::Mitchell { b: 0.75, c: 0.125 },
-                Vec2::new(0.7, 3.3),
-            ),
-            PixelFilter::pixel_box(),
-        ];
-        // Handed over in two batches, as two bounces would.
-        let (any_order, mut in_order) = (samples.clone(), samples.split_off(12_000));
-        samples.sort_by_key(|sample| sample.pixel);
-        in_order.sort_by_key(|sample| sample.pixel);
-        let in_order = [samples, in_order];
-        let any_order = [any_order[..12_000].to_vec(), any_order[12_000..].to_vec()];
-        for filter in filters {
-            for batches in [&in_order, &any_order] {
-                let mut serial = Film::new(width, height);
-                serial.splat_with(filter.clone());
-                for s in batches.iter().flatten() {
-                    serial.add_sample(s.pixel, s.position, s.radiance);
-                }
-                assert!(serial.rejected > 20, "{}", serial.rejected);
-                for threads in [1, 2, 3, 8] {
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(threads)
-                        .build()
-                        .unwrap();
-                    let mut film = Film::new(width, height);
-                    film.splat_with(filter.clone());
-                    pool.install(|| batches.iter().for_each(|b| film.add_samples(b)));
-                    // The same batches as the runs of one call, as a chunk's bounces are.
-                    let mut runs = Film::new(width, height);
-                    runs.splat_with(filter.clone());
-                    let ends = [batches[0].len(), batches[0].len() + batches[1].len()];
-                    pool.install(|| runs.add_sample_runs(&batches.concat(), &ends));
-                    for (film, how) in [(&film, "one call a batch"), (&runs, "one call")] {
-                        let case = format!("{filter:?}, {threads} threads, {how}");
-                        assert_eq!(film.sums, serial.sums, "{case}");
-                        assert_eq!(film.pass_sums, serial.pass_sums, "{case}");
-                        assert_eq!(film.counts, serial.counts, "{case}");
-                        assert_eq!(film.rejected, serial.rejected, "{case}");
-                    }
-                }
-            }
-        }
     }
 
     /// The one-pixel box skips the footprint (and the f32 pass sums): the same sums, weights and

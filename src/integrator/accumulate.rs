@@ -1,13 +1,11 @@
-//! The last stages of a bounce: unoccluded light reaches its path, finished paths go to the film,
-//! and the live ones are compacted for the next bounce.
+//! The last stages of a bounce: unoccluded light reaches its path, finished paths leave the batch
+//! with their film samples, and the live ones are compacted for the next bounce.
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::batch::{PathBatch, ShadowBatch};
-use super::start_pass::PassIndex;
-use crate::film::Film;
 
 pub fn gather_unoccluded_light(mut batch: ResMut<PathBatch>, shadows: Res<ShadowBatch>) {
     let k = shadows.rays_per_path;
@@ -49,17 +47,8 @@ fn add_unoccluded(radiance: &mut [Vec3], t_max: &[f32], occluded: &[bool], contr
     }
 }
 
-/// Finished paths add their radiance to the film (one sample at their film position, in
-/// (bounce, slot) order, so the sums do not depend on the thread count; the film splats a
-/// chunk's samples at once, when its last path ends, in parallel over bands of rows: see
-/// [`PathBatch::retire`]), into the sums of their pass; the rest move to the front of the batch.
-pub fn retire_finished_paths(
-    mut batch: ResMut<PathBatch>,
-    mut film: ResMut<Film>,
-    pass: Res<PassIndex>,
-) {
-    // A chunk's last retire hands over all its samples, so every sample of earlier passes is
-    // in the film by now.
-    film.begin_pass(pass.0);
-    batch.retire(|samples, run_ends| film.add_sample_runs(samples, run_ends));
+/// Finished paths leave the batch, their film samples kept for the chunk's end (see
+/// `Renderer::trace_chunk`, which splats them); the rest move to the front of the batch.
+pub fn retire_finished_paths(mut batch: ResMut<PathBatch>) {
+    batch.retire();
 }

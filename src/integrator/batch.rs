@@ -27,13 +27,8 @@ macro_rules! path_batch {
             /// Where compaction gathers the live paths to, swapped in afterwards.
             spare: SpareColumns,
             partition: Partition,
-            /// The film samples of the chunk's finished paths so far, bounce after bounce: the
-            /// first `finished_len` (the vector only grows, to the chunk's size; see
-            /// [`Partition::split`]).
-            finished: Vec<FilmSample>,
-            finished_len: usize,
-            /// Where each bounce's samples end in `finished` (bounces that finished none left out).
-            run_ends: Vec<usize>,
+            /// The film samples of the chunk's finished paths so far.
+            finished: FinishedSamples,
         }
 
         #[derive(Default)]
@@ -201,36 +196,45 @@ path_batch! {
 }
 
 impl PathBatch {
-    /// Removes the finished paths and moves the live ones to the front in their order; keeps the
-    /// finished paths' film samples, and when no path is left hands all the chunk's to `finish`
-    /// at once: the samples in (bounce, slot) order, so that results do not depend on
-    /// scheduling, and where each bounce's run of them ends (each run is in slot order). Returns
-    /// how many live.
-    ///
-    /// Once a chunk rather than once a bounce: the film's parallel adds are one fork-join a
-    /// chunk, not one a bounce (a late bounce's few samples were not worth waking the other
-    /// threads for), and each of their bands of rows gets all the chunk's samples there, one per
-    /// pixel, so that the bands share the work evenly. The partition moves each block's live
-    /// paths as it finds them, so the slots are read once, while in the cache.
-    ///
-    /// On one thread there is nothing to share, and each bounce's samples go to the film at
-    /// once, while they and the film rows they touch are still in the cache (kept for the
-    /// chunk's end, they made the one-thread retire about 7 % slower, `foton bench --stages`).
-    pub fn retire(&mut self, finish: impl FnOnce(&[FilmSample], &[usize])) -> usize {
+    /// Removes the finished paths and moves the live ones to the front in their order; keeps
+    /// the finished paths' film samples (see [`PathBatch::take_finished`]) after those of the
+    /// chunk's earlier bounces, in slot order, so that they do not depend on scheduling.
+    /// Returns how many live. The partition moves each block's live paths as it finds them, so
+    /// the slots are read once, while in the cache.
+    pub fn retire(&mut self) -> usize {
         let n = self.len;
-        let mut finished = std::mem::take(&mut self.finished);
-        let live = self.split_live(&mut finished, self.finished_len);
-        if live < n {
-            self.finished_len += n - live;
-            self.run_ends.push(self.finished_len);
-        }
-        if live == 0 || (rayon::current_num_threads() == 1 && live < n) {
-            finish(&finished[..self.finished_len], &self.run_ends);
-            self.finished_len = 0;
-            self.run_ends.clear();
-        }
-        self.finished = finished;
+        let mut finished = std::mem::take(&mut self.finished.samples);
+        let live = self.split_live(&mut finished, self.finished.len);
+        self.finished.samples = finished;
+        self.finished.len += n - live;
         live
+    }
+
+    /// Swaps the samples kept since the last call (a chunk's, in (bounce, slot) order) into
+    /// `into`, and `into`'s allocation, emptied, back into the batch.
+    pub fn take_finished(&mut self, into: &mut FinishedSamples) {
+        std::mem::swap(&mut self.finished, into);
+        self.finished.clear();
+    }
+}
+
+/// The film samples of a chunk's finished paths, bounce after bounce, each bounce's in slot
+/// order.
+#[derive(Default)]
+pub struct FinishedSamples {
+    /// The samples are the first `len` (the vector only grows, to the chunk's size; see
+    /// [`Partition::split`]).
+    samples: Vec<FilmSample>,
+    len: usize,
+}
+
+impl FinishedSamples {
+    pub fn samples(&self) -> &[FilmSample] {
+        &self.samples[..self.len]
+    }
+
+    pub fn clear(&mut self) {
+        self.len = 0;
     }
 }
 
@@ -508,85 +512,44 @@ mod tests {
         (0..len).map(|slot| pixel_at(batch, slot)).collect()
     }
 
-    /// Three bounces, each finishing fewer paths than the one before: nothing is handed over
-    /// while paths live; the last retire, with no path left, hands over every bounce's samples
-    /// once, in (bounce, slot) order, with the end of each bounce's run. The buffer keeps its
-    /// length from chunk to chunk: a second chunk hands over its own samples only.
+    /// Three bounces, each finishing fewer paths than the one before, on 1 and 2 threads: the
+    /// chunk's samples are kept in (bounce, slot) order until taken. The buffers keep their
+    /// lengths from chunk to chunk: a second chunk's samples are its own only.
     #[test]
-    fn retire_hands_over_the_chunk_once_in_bounce_order() {
+    fn retire_keeps_the_chunk_in_bounce_order() {
         let n = 3 * PARTITION_BLOCK;
-        let mut batch = PathBatch::default();
-        let mut handed: Vec<(Vec<u32>, Vec<usize>)> = Vec::new();
-        // Samples are kept for the chunk's end where the film's adds are shared among threads.
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        for _chunk in 0..2 {
-            batch.resize(n);
-            for i in 0..n {
-                batch.pixel[i] = i as u32;
-                batch.alive[i] = i % 2 == 0;
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut batch = PathBatch::default();
+            let mut taken = FinishedSamples::default();
+            for _chunk in 0..2 {
+                batch.resize(n);
+                for i in 0..n {
+                    batch.pixel[i] = i as u32;
+                    batch.alive[i] = i % 2 == 0;
+                }
+                let retire = |batch: &mut PathBatch| pool.install(|| batch.retire());
+                let live = retire(&mut batch);
+                // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish.
+                for slot in 0..live {
+                    batch.alive[slot] = !pixel_at(&batch, slot).is_multiple_of(6);
+                }
+                let still_live = retire(&mut batch);
+                assert_eq!(retire(&mut batch), still_live);
+                let odd: Vec<u32> = (1..n as u32).step_by(2).collect();
+                let sixes: Vec<u32> = (0..n as u32).step_by(6).collect();
+                assert_eq!(still_live, live - sixes.len());
+                batch.alive[..still_live].fill(false);
+                let rest = pixels_at(&batch, still_live);
+                assert_eq!(retire(&mut batch), 0);
+                batch.take_finished(&mut taken);
+                let pixels: Vec<u32> = taken.samples().iter().map(|s| s.pixel).collect();
+                assert_eq!(pixels, [odd, sixes, rest].concat(), "{threads} threads");
             }
-            handed.clear();
-            let mut retire = |batch: &mut PathBatch| {
-                pool.install(|| {
-                    batch.retire(|samples, ends| {
-                        handed.push((samples.iter().map(|s| s.pixel).collect(), ends.to_vec()))
-                    })
-                })
-            };
-            let live = retire(&mut batch);
-            // Of the live paths (even pixels), those whose pixel is a multiple of 6 finish now.
-            for slot in 0..live {
-                batch.alive[slot] = !pixel_at(&batch, slot).is_multiple_of(6);
-            }
-            let still_live = retire(&mut batch);
-            // A bounce where every path lives adds no run.
-            assert_eq!(retire(&mut batch), still_live);
-            let odd: Vec<u32> = (1..n as u32).step_by(2).collect();
-            let sixes: Vec<u32> = (0..n as u32).step_by(6).collect();
-            assert_eq!(still_live, live - sixes.len());
-            batch.alive[..still_live].fill(false);
-            let rest = pixels_at(&batch, still_live);
-            assert_eq!(retire(&mut batch), 0);
-            let ends = vec![odd.len(), odd.len() + sixes.len(), n];
-            assert_eq!(handed, vec![([odd, sixes, rest].concat(), ends)]);
         }
-    }
-
-    /// On one thread each bounce's samples are handed over at once, in slot order.
-    #[test]
-    fn retire_on_one_thread_hands_over_each_bounce() {
-        let n = 2 * PARTITION_BLOCK;
-        let mut batch = PathBatch::default();
-        batch.resize(n);
-        for i in 0..n {
-            batch.pixel[i] = i as u32;
-            batch.alive[i] = i % 3 != 0;
-        }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .unwrap();
-        let mut handed: Vec<(Vec<u32>, Vec<usize>)> = Vec::new();
-        let mut retire = |batch: &mut PathBatch| {
-            pool.install(|| {
-                batch.retire(|samples, ends| {
-                    handed.push((samples.iter().map(|s| s.pixel).collect(), ends.to_vec()))
-                })
-            })
-        };
-        let live = retire(&mut batch);
-        batch.alive[..live].fill(false);
-        let rest = pixels_at(&batch, live);
-        assert_eq!(retire(&mut batch), 0);
-        let threes: Vec<u32> = (0..n as u32).step_by(3).collect();
-        let (threes_len, rest_len) = (threes.len(), rest.len());
-        assert_eq!(
-            handed,
-            vec![(threes, vec![threes_len]), (rest, vec![rest_len])]
-        );
     }
 
     #[test]
@@ -635,7 +598,7 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let live = pool.install(|| batch.retire(|_, _| {}));
+            let live = pool.install(|| batch.retire());
             assert_eq!(pixels_at(&batch, live), expected);
             for i in 0..live {
                 let path = pixel_at(&batch, i);
@@ -646,7 +609,7 @@ mod tests {
     }
 
     #[test]
-    fn retire_keeps_live_paths_in_order_and_hands_over_the_rest() {
+    fn retire_keeps_live_paths_in_order_and_the_samples_of_the_rest() {
         // More than two partition blocks, with a pattern that differs between them.
         let n = 2 * PARTITION_BLOCK + 123;
         let mut batch = PathBatch::default();
@@ -658,16 +621,11 @@ mod tests {
             batch.alive[i] = i % 3 == 0 || (PARTITION_BLOCK..PARTITION_BLOCK + 50).contains(&i);
         }
         let expected_live: Vec<u32> = (0..n as u32).filter(|&i| batch.alive[i as usize]).collect();
-        let mut finished = Vec::new();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
             .build()
             .unwrap();
-        let live = pool.install(|| {
-            batch.retire(|samples, _| {
-                finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
-            })
-        });
+        let live = pool.install(|| batch.retire());
         assert_eq!(live, expected_live.len());
         assert_eq!(batch.len, live);
         assert_eq!(pixels_at(&batch, live), expected_live);
@@ -676,13 +634,13 @@ mod tests {
             assert_eq!(batch.radiance[i], Vec3::splat(pixel_at(&batch, i) as f32));
             assert!(batch.alive[i]);
         }
-        assert!(finished.is_empty(), "handed over when no path is left");
         batch.alive[..live].fill(false);
-        let none_live = pool.install(|| {
-            batch.retire(|samples, _| {
-                finished.extend(samples.iter().map(|s| (s.pixel, s.radiance)));
-            })
-        });
+        let none_live = pool.install(|| batch.retire());
+        let mut taken = FinishedSamples::default();
+        batch.take_finished(&mut taken);
+        let finished: Vec<(u32, Vec3)> = (taken.samples().iter())
+            .map(|s| (s.pixel, s.radiance))
+            .collect();
         assert_eq!(none_live, 0);
         let expected_finished: Vec<u32> = (0..n as u32)
             .filter(|i| !expected_live.contains(i))

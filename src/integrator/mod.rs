@@ -5,6 +5,7 @@
 //! chunk:    start_pass → camera (generate → lens → to world)
 //! bounce:   trace_closest_hits → shade (path or raycast) → trace_shadow_rays
 //!           → gather_unoccluded_light → retire_finished_paths   (repeated while paths live)
+//! film:     the chunk's samples splatted, beside the next chunk's stages
 //! ```
 //!
 //! A pass (one sample per pixel) runs as chunks of consecutive pixels, each traced through all
@@ -39,7 +40,7 @@ use crate::sampling::PADDED_DRAWS;
 use crate::settings::{IntegratorKind, RenderSettings, Techniques};
 use crate::shape::geometry::{SceneGeometry, build_scene_geometry};
 use accumulate::{gather_unoccluded_light, retire_finished_paths};
-use batch::{HitBatch, PathBatch, ShadowBatch};
+use batch::{FinishedSamples, HitBatch, PathBatch, ShadowBatch};
 use shade_path::shade_path_vertices;
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
 use start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, start_pass};
@@ -68,6 +69,9 @@ pub struct Renderer {
     passes_done: u32,
     /// The pass rendering stops before (`--passes A..B`: B); all of them when `None`.
     end_pass: Option<u32>,
+    /// The film samples of the last chunk traced, and its pass: splatted beside the next
+    /// chunk's stages, or when the render returns.
+    unsplatted: (FinishedSamples, u32),
 }
 
 /// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
@@ -206,6 +210,7 @@ impl Renderer {
             stage_times: None,
             passes_done: 0,
             end_pass: None,
+            unsplatted: Default::default(),
         }
     }
 
@@ -216,8 +221,9 @@ impl Renderer {
 
     /// Times every stage of the renders that follow (see [`Renderer::stage_times`]).
     pub fn time_stages(&mut self) {
-        let names =
-            std::iter::once("start_pass + camera").chain(self.bounce.iter().map(|s| s.name));
+        let names = std::iter::once("start_pass + camera")
+            .chain(self.bounce.iter().map(|s| s.name))
+            .chain([SPLAT_STAGE]);
         self.stage_times = Some(
             names
                 .map(|name| StageTime {
@@ -391,7 +397,7 @@ impl Renderer {
                 // the other workers directly; from outside it, each loop would be injected into
                 // the pool and this thread put to sleep until it ends (two wake-ups per loop,
                 // about ten loops per bounce).
-                rays += rayon::scope(|_| self.trace_chunk(count));
+                rays += rayon::scope(|_| self.trace_chunk(count, passes));
                 paths += count as u64;
                 let pass_done = first + count == pixels;
                 passes += u32::from(pass_done);
@@ -414,6 +420,10 @@ impl Renderer {
                 break;
             }
         }
+        let world = &mut self.world;
+        let time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
+        splat_timed(&mut world.resource_mut::<Film>(), &self.unsplatted, time);
+        self.unsplatted.0.clear();
         RenderStats {
             passes,
             paths,
@@ -423,41 +433,100 @@ impl Renderer {
         }
     }
 
-    /// Traces the chunk of `count` camera paths set in [`ChunkRange`] through all its bounces;
-    /// returns the rays traced.
-    fn trace_chunk(&mut self, count: usize) -> u64 {
+    /// Traces the chunk of `count` camera paths of pass `pass` set in [`ChunkRange`] through
+    /// all its bounces, while the last chunk's samples are splatted; keeps this chunk's samples
+    /// for the next. Returns the rays traced.
+    ///
+    /// The splat is one task, which another thread takes while this one starts the stages (it
+    /// is the oldest task in this thread's queue), and the stages' parallel loops share the
+    /// rest: the film's sums take their samples in one order, chunk after chunk, each in
+    /// (bounce, slot) order, so the image is the same at any thread count. Splatted in parallel
+    /// over bands of rows instead, a sample near a band's edge had its weights computed by both
+    /// bands, and the splat scaled 1.05x-1.18x from one thread to two (docs/speed.md, stop 34).
+    /// On one thread the splat follows the stages.
+    fn trace_chunk(&mut self, count: usize, pass: u32) -> u64 {
         let world = &mut self.world;
-        let mut times = self.stage_times.as_deref_mut();
-        run_timed(
-            &mut self.chunk,
-            world,
-            times.as_deref_mut().map(|t| &mut t[0]),
-            count,
+        // The splat's time is the last entry, the stages' the others.
+        let (splat_time, times) = match self.stage_times.as_deref_mut() {
+            Some(times) => times
+                .split_last_mut()
+                .map(|(last, rest)| (Some(last), Some(rest))),
+            None => None,
+        }
+        .unwrap_or((None, None));
+        let mut film = world
+            .remove_resource::<Film>()
+            .expect("a renderer's world has a film");
+        let unsplatted = &self.unsplatted;
+        let (chunk, bounce) = (&mut self.chunk, &mut self.bounce);
+        let (rays, ()) = rayon::join(
+            || trace_stages(chunk, bounce, world, times, count),
+            || splat_timed(&mut film, unsplatted, splat_time),
         );
-        let mut rays = 0;
-        loop {
-            let live = world.resource::<PathBatch>().len;
-            if live == 0 {
-                return rays;
-            }
-            rays += live as u64;
-            let mut shadow_rays = 0;
-            for (i, stage) in self.bounce.iter_mut().enumerate() {
-                let items = match stage.works_on {
-                    StageItems::LivePaths => live,
-                    StageItems::ShadowRays => {
-                        shadow_rays = world.resource::<ShadowBatch>().rays;
-                        rays += shadow_rays as u64;
-                        shadow_rays
-                    }
-                    StageItems::ShadowResults => live,
-                };
-                if stage.works_on != StageItems::LivePaths && shadow_rays == 0 {
-                    continue;
+        world.insert_resource(film);
+        let (samples, chunk_pass) = &mut self.unsplatted;
+        world.resource_mut::<PathBatch>().take_finished(samples);
+        *chunk_pass = pass;
+        rays
+    }
+}
+
+/// Name of the film's splat in the stage times (it runs beside the stages, see
+/// [`Renderer::trace_chunk`]).
+const SPLAT_STAGE: &str = "film splat (beside them)";
+
+/// Splats `samples` of pass `pass` on `film`, adding the time taken to `time` when stages are
+/// timed.
+fn splat_timed(
+    film: &mut Film,
+    (samples, pass): &(FinishedSamples, u32),
+    time: Option<&mut StageTime>,
+) {
+    let start = Instant::now();
+    if !samples.samples().is_empty() {
+        film.begin_pass(*pass);
+        film.add_samples(samples.samples());
+    }
+    if let Some(time) = time {
+        time.time += start.elapsed();
+        time.items += samples.samples().len() as u64;
+    }
+}
+
+/// Runs the chunk's start and its bounces for `count` camera paths, each stage timed into its
+/// entry of `times` (the start first, then the bounce stages) when stages are timed; returns
+/// the rays traced.
+fn trace_stages(
+    chunk: &mut Schedule,
+    bounce: &mut [Stage],
+    world: &mut World,
+    mut times: Option<&mut [StageTime]>,
+    count: usize,
+) -> u64 {
+    run_timed(chunk, world, times.as_deref_mut().map(|t| &mut t[0]), count);
+    let mut rays = 0;
+    loop {
+        let live = world.resource::<PathBatch>().len;
+        if live == 0 {
+            return rays;
+        }
+        rays += live as u64;
+        let mut shadow_rays = 0;
+        for (i, stage) in bounce.iter_mut().enumerate() {
+            let items = match stage.works_on {
+                StageItems::LivePaths => live,
+                StageItems::ShadowRays => {
+                    shadow_rays = world.resource::<ShadowBatch>().rays;
+                    rays += shadow_rays as u64;
+                    shadow_rays
                 }
-                let time = times.as_deref_mut().map(|t| &mut t[i + 1]);
-                run_timed(&mut stage.schedule, world, time, items);
+                StageItems::ShadowResults => live,
+            };
+            if stage.works_on != StageItems::LivePaths && shadow_rays == 0 {
+                continue;
             }
+            let time = times.as_deref_mut().map(|t| &mut t[i + 1]);
+            run_timed(&mut stage.schedule, world, time, items);
         }
     }
 }
