@@ -81,6 +81,14 @@ impl PrimitiveIds {
         self.instance_starts[instance] + triangle as u32
     }
 
+    /// The sphere `id` names, if it names one: for the hot paths that handle the commonest
+    /// kinds before a full [`PrimitiveIds::decode`].
+    #[inline(always)]
+    pub fn as_sphere(&self, id: u32) -> Option<usize> {
+        let i = id.wrapping_sub(self.triangles);
+        (i < self.spheres).then_some(i as usize)
+    }
+
     /// What `id` names; `None` past the last id.
     pub fn decode(&self, id: u32) -> Option<PrimitiveRef> {
         let spheres = self.triangles + self.spheres;

@@ -27,17 +27,17 @@ impl SceneGeometry {
     /// The surface at `hit` on the ray from `origin` along `direction` (by reference: passed by
     /// value to this out-of-line call, each was copied to the stack first).
     ///
-    /// A world triangle, the common hit, is told by one comparison: triangles hold the first
-    /// ids ([`crate::accel::PrimitiveIds`]), one face normal each, so an id below
-    /// `face_normals`' length is a triangle's and indexes its normal, already bounds-checked.
-    /// A sphere placed by a translation alone, without uv (the next most common hit, the ids
-    /// after the triangles'), is answered here too; the other kinds are decoded out of line
-    /// ([`SceneGeometry::other_surface_point`]), which keeps these paths free of their
-    /// registers' saves and restores.
+    /// A world triangle, the common hit, is told by one comparison: a world triangle's id is
+    /// its index ([`crate::accel::PrimitiveIds::triangle`]), one face normal each, so an id
+    /// below `face_normals`' length is a triangle's and indexes its normal, already
+    /// bounds-checked. A sphere placed by a translation alone, without uv (the next most common
+    /// hit, [`crate::accel::PrimitiveIds::as_sphere`]), is answered here too; the other kinds
+    /// are decoded out of line ([`SceneGeometry::other_surface_point`]), which keeps these
+    /// paths free of their registers' saves and restores.
     pub fn surface_point(&self, hit: &Hit, origin: &Vec3, direction: &Vec3) -> SurfacePoint {
         let prim = hit.prim as usize;
         let Some(&ng) = self.face_normals.get(prim) else {
-            let sphere = self.spheres.get(prim.wrapping_sub(self.face_normals.len()));
+            let sphere = (self.ids.as_sphere(hit.prim)).and_then(|i| self.spheres.get(i));
             if let Some(sphere) = sphere
                 && !sphere.uv
                 && let Some(translation) = sphere.translation_only
