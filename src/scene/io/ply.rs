@@ -95,10 +95,9 @@ pub fn parse(reader: &mut impl BufRead) -> Result<Geometry, String> {
             u32::try_from(i)
                 .ok()
                 .filter(|&i| (i as usize) < positions.len())
-                .ok_or(format!(
-                    "face index {i} out of range ({} vertices)",
-                    positions.len()
-                ))
+                .ok_or_else(|| {
+                    format!("face index {i} out of range ({} vertices)", positions.len())
+                })
         };
         // Fan triangulation: (0, i, i + 1).
         for i in 1..polygon.len().saturating_sub(1) {
