@@ -484,7 +484,6 @@ impl Film {
         let splat = self.splat.as_ref();
         let film_size = (self.width, self.height);
         let mut sums = FilmSums {
-            width: self.width as usize,
             sums: &mut self.sums,
             pass_sums: &mut self.pass_sums,
             counts: &mut self.counts,
@@ -543,7 +542,6 @@ pub struct FilmSample {
 
 /// The film's sums and counts, borrowed apart from its filter.
 struct FilmSums<'a> {
-    width: usize,
     sums: &'a mut [WeightedSum],
     pass_sums: &'a mut [PassSum],
     counts: &'a mut [u64],
@@ -564,7 +562,7 @@ impl FilmSums<'_> {
         sample: &FilmSample,
         avx2: Option<Avx2>,
     ) -> bool {
-        let w = self.width;
+        let w = width as usize;
         let pixel = sample.pixel as usize;
         // Finite and not negative: 0 <= c < inf, false for NaN; three lanes in one compare each.
         let lanes = Vec3A::from(sample.radiance);
