@@ -206,6 +206,10 @@ fn area_light_reflection_matches_the_analytic_answer() {
 /// integrator's image equals, to float rounding, the one without the sheet and sphere; the
 /// lights are delta or sampled with the same random numbers in both, so the two images differ
 /// only where a shadow ray is wrongly stopped (a stopped ray there blackens the whole floor).
+/// The rounding: a BSDF-sampled ray that passed the sheet starts there, so its hit on the lamp
+/// is rounded differently and with it the hit's MIS weight, by a relative 2.4e-6 with uniform
+/// light selection and 1.2e-5 with the light BVH, which gives the lamp fewer light samples
+/// and its BSDF-sampled hits more weight (measured); 1e-4 bounds it, far below a stopped ray.
 #[test]
 fn shadow_rays_pass_through_null_surfaces() {
     let v = Vec3::new;
@@ -251,7 +255,7 @@ fn shadow_rays_pass_through_null_surfaces() {
         );
         for (a, b) in open.iter().zip(&veiled) {
             assert!(
-                (*a - *b).abs().max_element() <= 1e-5 * a.max_element(),
+                (*a - *b).abs().max_element() <= 1e-4 * a.max_element(),
                 "{integrator:?}: {b} behind null surfaces, {a} without"
             );
         }

@@ -296,6 +296,7 @@ pub enum LightSelectionArg {
     Power,
     Uniform,
     Mixed,
+    Bvh,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -321,6 +322,7 @@ impl SceneArgs {
                     LightSelectionArg::Power => LightSelection::Power,
                     LightSelectionArg::Uniform => LightSelection::Uniform,
                     LightSelectionArg::Mixed => LightSelection::Mixed,
+                    LightSelectionArg::Bvh => LightSelection::Bvh,
                 }),
             rr_depth: self.rr_depth.unwrap_or(defaults.rr_depth),
             film: self.film.map_or(defaults.film, |f| match f {

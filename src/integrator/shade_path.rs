@@ -127,7 +127,7 @@ fn shade_vertex<'a>(
     {
         // Light sampling would have sampled from the last scattering vertex, which is not the
         // ray's origin after a pass through a null surface.
-        let weight = emission_weight(lights, *path.scatter_pdf, index, || {
+        let weight = emission_weight(lights, (*path.scatter_pdf, path.vertex), index, || {
             area.pdf(*path.vertex, surface.position, surface.geometric_normal)
         });
         path.add_radiance(*path.throughput * area.radiance() * weight);
@@ -185,15 +185,15 @@ pub(super) fn shade_escaped(
     hidden: bool,
 ) {
     if let Some((index, environment, sky)) = sky {
-        let weight = emission_weight(lights, *path.scatter_pdf, index, || {
-            environment.pdf_for_mis_of(&sky)
-        });
+        let from = (*path.scatter_pdf, &*path.vertex);
+        let weight = emission_weight(lights, from, index, || environment.pdf_for_mis_of(&sky));
         path.add_radiance(*path.throughput * sky.radiance * weight);
     }
     for (index, sun) in lights.sun_discs().filter(|_| !hidden) {
         let light = sun.radiance_towards(*path.direction);
         if light != Vec3::ZERO {
-            let weight = emission_weight(lights, *path.scatter_pdf, index, || sun.pdf());
+            let from = (*path.scatter_pdf, &*path.vertex);
+            let weight = emission_weight(lights, from, index, || sun.pdf());
             path.add_radiance(*path.throughput * light * weight);
         }
     }
@@ -222,7 +222,7 @@ fn shade_scattering(
     let mut shadow = None;
     if !bsdf.is_delta() {
         let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
-        if let Some((index, probability)) = lights.choose(u_choose) {
+        if let Some((index, probability)) = lights.choose(u_choose, surface.position) {
             shadow = lights.lights[index]
                 .sample_for_mis(surface.position, u_light)
                 .filter(|sample| sample.pdf > 0.0 && sample.radiance != Vec3::ZERO)
@@ -308,7 +308,7 @@ fn queued_vertex<'a>(
 ) -> DiffuseVertex<'a> {
     let lights = scene.lights;
     let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
-    let light = match lights.choose(u_choose) {
+    let light = match lights.choose(u_choose, surface.position) {
         None => VertexLight::None,
         Some((index, probability)) => {
             let light = &lights.lights[index];
@@ -368,17 +368,18 @@ pub fn russian_roulette(path: &mut PathSlots, rr_depth: u32) {
     }
 }
 
-/// The MIS weight of light found by BSDF sampling: 1 after a camera ray or a delta lobe (light
-/// sampling could not have made it), else the power heuristic against light sampling.
+/// The MIS weight of light found by BSDF sampling, by a ray sampled with density `scatter_pdf`
+/// from the scattering vertex `vertex`: 1 after a camera ray or a delta lobe (light sampling
+/// could not have made it), else the power heuristic against light sampling from `vertex`.
 fn emission_weight(
     lights: &LightTable,
-    scatter_pdf: f32,
+    (scatter_pdf, vertex): (f32, &Vec3),
     light: usize,
     light_pdf: impl FnOnce() -> f32,
 ) -> f32 {
     if scatter_pdf <= 0.0 {
         return 1.0;
     }
-    let light_pdf = lights.selection_probability(light) * light_pdf();
+    let light_pdf = lights.selection_probability(light, vertex) * light_pdf();
     power_heuristic(1, scatter_pdf, 1, light_pdf)
 }

@@ -8,6 +8,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::LightSample;
+use super::bvh::LightBounds;
 use crate::accel::PrimitiveRef;
 use crate::film::luminance;
 use crate::math::normalize_or;
@@ -122,6 +123,64 @@ impl AreaLight {
 
     pub fn power(&self) -> f32 {
         PI * self.area() * luminance(self.radiance)
+    }
+
+    /// Where the emitter lies, the directions it emits in and its power, for the light BVH: a
+    /// flat emitter's cone of normals is its normal (triangles: the cone around their
+    /// area-weighted mean normal that holds every one), a sphere's the whole sphere; each
+    /// emits over the hemisphere about its normal.
+    pub fn bounds(&self) -> LightBounds {
+        let flat = |points: &mut dyn Iterator<Item = Vec3>, axis: Vec3, cos_normals: f32| {
+            let (min, max) = points.fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(min, max), p| (min.min(p), max.max(p)),
+            );
+            LightBounds {
+                min,
+                max,
+                axis,
+                cos_normals,
+                cos_emission: 0.0,
+                power: self.power(),
+            }
+        };
+        match &self.shape {
+            EmitterShape::Parallelogram(q) => {
+                let corners = [q.corner, q.corner + q.edge1, q.corner + q.edge2];
+                let mut points = corners.into_iter().chain([corners[1] + q.edge2]);
+                flat(&mut points, q.normal, 1.0)
+            }
+            EmitterShape::Triangles { triangles, .. } => {
+                let weighted: Vec3 = (triangles.iter()).map(|t| t.edge1.cross(t.edge2)).sum();
+                let axis = weighted.normalize_or_zero();
+                let cos_normals = if axis == Vec3::ZERO {
+                    -1.0
+                } else {
+                    (triangles.iter())
+                        .map(|t| t.normal.dot(axis))
+                        .fold(1.0f32, f32::min)
+                };
+                let mut points = triangles
+                    .iter()
+                    .flat_map(|t| [t.p0, t.p0 + t.edge1, t.p0 + t.edge2]);
+                flat(&mut points, axis.normalize_or(Vec3::Z), cos_normals)
+            }
+            EmitterShape::Sphere { centre, radius } => LightBounds {
+                min: *centre - *radius,
+                max: *centre + *radius,
+                axis: Vec3::Z,
+                cos_normals: -1.0,
+                cos_emission: 0.0,
+                power: self.power(),
+            },
+            EmitterShape::Disk(disk) => {
+                // The ellipse centre + a Mx + b My over a^2 + b^2 <= 1 reaches
+                // sqrt(Mx_i^2 + My_i^2) from its centre along axis i.
+                let reach = (disk.axis_x * disk.axis_x + disk.axis_y * disk.axis_y).sqrt();
+                let mut points = [disk.centre - reach, disk.centre + reach].into_iter();
+                flat(&mut points, disk.normal, 1.0)
+            }
+        }
     }
 
     pub fn sample(&self, p: Vec3, u: Vec2) -> Option<LightSample> {

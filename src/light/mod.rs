@@ -4,6 +4,7 @@
 //! the [`LightSelection`].
 
 pub mod area;
+pub mod bvh;
 pub mod distant;
 pub mod infinite;
 pub mod point;
@@ -16,6 +17,7 @@ use glam::{Vec2, Vec3};
 use crate::sampling::AliasTable;
 use crate::shape::geometry::SceneGeometry;
 use area::AreaLight;
+use bvh::{LightBounds, LightBvh};
 use distant::DistantLight;
 use infinite::{Environment, InfiniteLight};
 use point::PointLight;
@@ -83,6 +85,17 @@ impl Light {
             _ => true,
         }
     }
+
+    /// Where the light is, which way it shines and its power, for the light BVH; `None` for
+    /// the lights at infinity (distant lights, sun discs, the environment).
+    pub fn bounds(&self) -> Option<LightBounds> {
+        match self {
+            Light::Point(light) => Some(LightBounds::point(light.position, light.power())),
+            Light::Spot(light) => Some(light.bounds()),
+            Light::Area(light) => Some(light.bounds()),
+            Light::Distant(_) | Light::SunDisc(_) | Light::Environment(_) => None,
+        }
+    }
 }
 
 /// How next-event estimation picks the one light it samples at a vertex.
@@ -91,14 +104,18 @@ impl Light {
 /// camera sees (its power counts light that passes the scene by); uniformly, a dim light gets
 /// as many samples as the sun. The mix, half of each (a defensive mixture, Hesterberg 1995),
 /// keeps every light's probability at least 1 / 2n and at least half its power share, so
-/// neither case can be worse than twice the better strategy's variance. Uniform is the default:
-/// on the scenes measured (docs/error-per-second.md) it had the least error, as in Mitsuba 3.
+/// neither case can be worse than twice the better strategy's variance. Of the three, uniform
+/// had the least error on the scenes measured (docs/error-per-second.md), as in Mitsuba 3. The
+/// light BVH ([`bvh`]), the default (as in pbrt-v4), chooses by each light's estimated
+/// contribution at the shading point: the lights at infinity uniformly, the rest through the
+/// tree. With one light to choose from, every selection is the same.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightSelection {
     Power,
-    #[default]
     Uniform,
     Mixed,
+    #[default]
+    Bvh,
 }
 
 impl LightSelection {
@@ -108,7 +125,8 @@ impl LightSelection {
         let clean = |p: f32| if p.is_finite() && p > 0.0 { p } else { 0.0 };
         let total: f32 = power.iter().map(|&p| clean(p)).sum();
         match self {
-            Self::Uniform => vec![1.0; power.len()],
+            // The light BVH's table serves only where there is no choice to make.
+            Self::Uniform | Self::Bvh => vec![1.0; power.len()],
             Self::Power => power.iter().map(|&p| clean(p)).collect(),
             Self::Mixed if total > 0.0 => power
                 .iter()
@@ -126,11 +144,15 @@ pub struct LightTable {
     selection: AliasTable,
     /// Indices into `lights` of the selectable lights, in the selection table's order.
     selectable: Vec<u32>,
-    /// Each light's selection probability (0 for one never selected).
+    /// Each light's selection probability (0 for one never selected); NaN for a light whose
+    /// probability depends on the point, one in the light BVH ([`ChoiceByPosition`]).
     probability: Vec<f32>,
     /// The choice where there is no choice: `None` without selectable lights, the one light
     /// and its probability with one (the table's answer for every `u`).
     sole_choice: Option<(usize, f32)>,
+    /// With [`LightSelection::Bvh`] and two or more selectable lights: the choice by position,
+    /// in place of the table.
+    by_position: Option<ChoiceByPosition>,
     /// Light index of each of the geometry's emissive shapes.
     emitter_light: Vec<u32>,
     environment: Option<u32>,
@@ -145,7 +167,7 @@ impl LightTable {
     fn new(
         lights: Vec<Light>,
         power: &[f32],
-        selection: LightSelection,
+        selection_kind: LightSelection,
         emitter_light: Vec<u32>,
         environment: Option<u32>,
     ) -> Self {
@@ -156,7 +178,7 @@ impl LightTable {
             .filter(|&i| lights[i as usize].is_sampled_for_mis())
             .collect();
         let selectable_power: Vec<f32> = selectable.iter().map(|&i| power[i as usize]).collect();
-        let selection = AliasTable::new(&selection.weights(&selectable_power));
+        let selection = AliasTable::new(&selection_kind.weights(&selectable_power));
         let mut probability = vec![0.0; lights.len()];
         for (k, &i) in selectable.iter().enumerate() {
             probability[i as usize] = selection.pdf(k);
@@ -165,38 +187,66 @@ impl LightTable {
             [only] => Some((*only as usize, selection.sample(0.0).1)),
             _ => None,
         };
+        let by_position = (selection_kind == LightSelection::Bvh && selectable.len() > 1)
+            .then(|| ChoiceByPosition::new(&lights, &selectable));
+        if let Some(by_position) = &by_position {
+            for &i in &selectable {
+                probability[i as usize] = by_position.probability_at_infinity(i);
+            }
+        }
         Self {
             lights,
             selection,
             selectable,
             probability,
             sole_choice,
+            by_position,
             emitter_light,
             environment,
             sun_discs,
         }
     }
 
-    /// Picks the light for next-event estimation by the table's selection weights, in O(1):
-    /// (index, probability); `None` when no light can be sampled that way. Inlined, the alias
-    /// table out of line: most scenes have one selectable light (a lamp under a constant sky),
-    /// whose choice is a copy (27 to about 5 instructions a vertex on the Cornell box).
+    /// Picks the light for next-event estimation at the point `p`: by the table's selection
+    /// weights in O(1), or with the light BVH by position; (index, probability), `None` when no
+    /// light can be sampled that way. Inlined, the rest out of line: most scenes have one
+    /// selectable light (a lamp under a constant sky), whose choice is a copy (27 to about 5
+    /// instructions a vertex on the Cornell box).
     #[inline(always)]
-    pub fn choose(&self, u: f32) -> Option<(usize, f32)> {
+    pub fn choose(&self, u: f32, p: Vec3) -> Option<(usize, f32)> {
         if self.selectable.len() <= 1 {
             return self.sole_choice;
         }
-        self.choose_among(u)
+        self.choose_among(u, p)
     }
 
     #[inline(never)]
-    fn choose_among(&self, u: f32) -> Option<(usize, f32)> {
+    fn choose_among(&self, u: f32, p: Vec3) -> Option<(usize, f32)> {
+        if let Some(by_position) = &self.by_position {
+            return by_position.choose(u, p);
+        }
         let (k, probability, _) = self.selection.sample(u);
         Some((self.selectable[k] as usize, probability))
     }
 
-    pub fn selection_probability(&self, index: usize) -> f32 {
-        self.probability.get(index).copied().unwrap_or(0.0)
+    /// The probability that [`LightTable::choose`] at `p` picks light `index`. Inlined, the
+    /// light BVH's walk out of line: where there is no choice to make (most scenes) it is a
+    /// table's entry.
+    #[inline(always)]
+    pub fn selection_probability(&self, index: usize, p: &Vec3) -> f32 {
+        let probability = self.probability.get(index).copied().unwrap_or(0.0);
+        if probability.is_nan() {
+            self.probability_in_tree(index, *p)
+        } else {
+            probability
+        }
+    }
+
+    #[inline(never)]
+    fn probability_in_tree(&self, index: usize, p: Vec3) -> f32 {
+        self.by_position
+            .as_ref()
+            .map_or(0.0, |by_position| by_position.probability(index, p))
     }
 
     /// The area light of emissive shape `emitter`, with its index.
@@ -250,6 +300,68 @@ impl LightTable {
     /// Whether any light can be hit by a BSDF-sampled ray (then MIS weights are needed).
     pub fn has_hittable_lights(&self) -> bool {
         self.environment.is_some() || !self.emitter_light.is_empty() || !self.sun_discs.is_empty()
+    }
+}
+
+/// [`LightSelection::Bvh`]'s choice (pbrt-v4's `BVHLightSampler`): each light at infinity with
+/// probability 1 / (n + 1) for n of them, the light BVH with the rest.
+#[derive(Clone, Debug)]
+struct ChoiceByPosition {
+    /// The selectable lights at infinity, by light index.
+    infinite: Vec<u32>,
+    /// The probability of choosing among `infinite`: n / (n + 1), or 1 without a tree.
+    infinite_share: f32,
+    /// Over the selectable bounded lights, by light index.
+    tree: Option<LightBvh>,
+}
+
+impl ChoiceByPosition {
+    fn new(lights: &[Light], selectable: &[u32]) -> Self {
+        let mut bounds = vec![LightBounds::point(Vec3::ZERO, 0.0); lights.len()];
+        let mut infinite = Vec::new();
+        for &i in selectable {
+            match lights[i as usize].bounds() {
+                Some(b) => bounds[i as usize] = b,
+                None => infinite.push(i),
+            }
+        }
+        let tree = LightBvh::new(&bounds);
+        let n = infinite.len() as f32;
+        Self {
+            infinite_share: if tree.is_some() { n / (n + 1.0) } else { 1.0 },
+            infinite,
+            tree,
+        }
+    }
+
+    fn choose(&self, u: f32, p: Vec3) -> Option<(usize, f32)> {
+        let share = self.infinite_share;
+        if u < share {
+            let n = self.infinite.len();
+            let k = ((u / share * n as f32) as usize).min(n - 1);
+            return Some((self.infinite[k] as usize, share / n as f32));
+        }
+        let tree = self.tree.as_ref()?;
+        let u = ((u - share) / (1.0 - share)).min(1.0 - f32::EPSILON / 2.0);
+        let (light, probability) = tree.sample(p, u)?;
+        Some((light as usize, probability * (1.0 - share)))
+    }
+
+    /// The probability of choosing the light at infinity `index` (the same at every point),
+    /// or NaN for any other light: its probability depends on the point ([`Self::probability`]).
+    fn probability_at_infinity(&self, index: u32) -> f32 {
+        if self.infinite.contains(&index) {
+            self.infinite_share / self.infinite.len() as f32
+        } else {
+            f32::NAN
+        }
+    }
+
+    /// The probability of choosing the bounded light `index` at `p`.
+    fn probability(&self, index: usize, p: Vec3) -> f32 {
+        self.tree.as_ref().map_or(0.0, |tree| {
+            tree.probability(index, p) * (1.0 - self.infinite_share)
+        })
     }
 }
 
@@ -386,7 +498,7 @@ mod tests {
                     (table.selectable[k] as usize, probability)
                 });
                 let bits = |c: Option<(usize, f32)>| c.map(|(i, p)| (i, p.to_bits()));
-                assert_eq!(bits(table.choose(u)), bits(expected), "u = {u}");
+                assert_eq!(bits(table.choose(u, Vec3::ZERO)), bits(expected), "u = {u}");
             }
         }
     }

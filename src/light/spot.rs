@@ -6,6 +6,7 @@ use bevy_ecs::prelude::*;
 use glam::Vec3;
 
 use super::LightSample;
+use super::bvh::LightBounds;
 use super::point::PointLight;
 use crate::film::luminance;
 
@@ -87,6 +88,18 @@ impl SpotLight {
         .sample(p)?;
         sample.radiance *= self.falloff((-sample.wi).dot(self.direction));
         Some(sample)
+    }
+
+    /// For the light BVH: a point emitting within the beam's cone about the axis and, past
+    /// it, over the falloff's angle (pbrt-v4's `SpotLight::Bounds`: theta_o the beam,
+    /// theta_e the falloff's width).
+    pub fn bounds(&self) -> LightBounds {
+        LightBounds {
+            axis: self.direction,
+            cos_normals: self.cos_falloff_start,
+            cos_emission: (self.cone - self.beam).cos(),
+            ..LightBounds::point(self.position, self.power())
+        }
     }
 
     /// pbrt-v3's estimate: the intensity over the cone up to the middle of the falloff.
