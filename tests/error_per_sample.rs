@@ -35,6 +35,26 @@ fn f_lower_quantile(k: usize) -> f64 {
     (-3.09 * 2.0 / (k as f64).sqrt()).exp()
 }
 
+/// The default techniques but `light_selection`, and filter importance sampling, whose pixels are
+/// independent.
+fn selecting(light_selection: LightSelection) -> Techniques {
+    Techniques {
+        light_selection,
+        film: Reconstruction::FilterImportance,
+        ..Techniques::default()
+    }
+}
+
+/// Asserts that a variance ratio (of technique X's over Y's, over `k` pixel-channels) lies below
+/// the 0.001 quantile of F(k, k): X has less variance than Y.
+fn assert_less_variance(ratio: f64, k: usize, what: &str) {
+    let bound = f_lower_quantile(k);
+    assert!(
+        ratio < bound,
+        "variance ratio {what} {ratio:.3}, bound {bound:.3}"
+    );
+}
+
 /// Sum over pixels and channels of the squared difference of two renders with other seeds.
 fn variance_sum(scene: impl Fn() -> SceneDesc, spp: u32, techniques: Techniques) -> f64 {
     variance_sum_with(scene, spp, techniques, SamplerKind::Sobol)
@@ -152,20 +172,11 @@ fn sky_and_lamp() -> SceneDesc {
 /// floor the lamp lights.
 #[test]
 fn uniform_and_mixed_light_selection_have_less_variance_than_power_under_a_sky() {
-    let techniques = |light_selection| Techniques {
-        light_selection,
-        film: Reconstruction::FilterImportance,
-        ..Techniques::default()
-    };
-    let power = variance_sum(sky_and_lamp, 8, techniques(LightSelection::Power));
+    let power = variance_sum(sky_and_lamp, 8, selecting(LightSelection::Power));
     let k = 32 * 32 * 3;
     for selection in [LightSelection::Uniform, LightSelection::Mixed] {
-        let ratio = variance_sum(sky_and_lamp, 8, techniques(selection)) / power;
-        assert!(
-            ratio < f_lower_quantile(k),
-            "variance ratio {selection:?} / power {ratio:.3}, bound {:.3}",
-            f_lower_quantile(k)
-        );
+        let ratio = variance_sum(sky_and_lamp, 8, selecting(selection)) / power;
+        assert_less_variance(ratio, k, &format!("{selection:?} / power"));
     }
 }
 
@@ -182,11 +193,7 @@ fn later_russian_roulette_has_less_variance() {
     let early = variance_sum(test_box, 8, techniques(1));
     let k = 40 * 30 * 3;
     let ratio = late / early;
-    assert!(
-        ratio < f_lower_quantile(k),
-        "variance ratio rr-depth 5 / 1 {ratio:.3}, bound {:.3}",
-        f_lower_quantile(k)
-    );
+    assert_less_variance(ratio, k, "rr-depth 5 / 1");
 }
 
 /// Splatting with a wide Gaussian spreads each sample over about 16 pixels, where filter
@@ -219,11 +226,7 @@ fn splatting_a_wide_filter_has_less_variance_than_filter_importance_sampling() {
     );
     let k = 32 * 32 * 3 / 16;
     let ratio = splat / fis;
-    assert!(
-        ratio < f_lower_quantile(k),
-        "variance ratio splat / fis {ratio:.3}, bound {:.3}",
-        f_lower_quantile(k)
-    );
+    assert_less_variance(ratio, k, "splat / fis");
 }
 
 /// Splatting is consistent: under a uniform sky, a diffuse furnace sphere still reflects its
@@ -285,11 +288,7 @@ fn solid_angle_rectangles_have_less_variance_close_to_a_lamp() {
     let k = 16 * 16 * 3;
     let ratio = variance_sum(lamp_over_floor, 8, techniques(true))
         / variance_sum(lamp_over_floor, 8, techniques(false));
-    assert!(
-        ratio < f_lower_quantile(k),
-        "variance ratio solid angle / area {ratio:.3}, bound {:.3}",
-        f_lower_quantile(k)
-    );
+    assert_less_variance(ratio, k, "solid angle / area");
 }
 
 /// A floor under a 6 x 6 grid of small lamps (0.3 wide, at height 0.8, 1.5 apart, of four
@@ -318,20 +317,11 @@ fn grid_of_lamps() -> SceneDesc {
 /// each 1 / 36: less variance on the floor (one-sided bound as above).
 #[test]
 fn the_light_bvh_has_less_variance_than_uniform_selection_under_many_lamps() {
-    let techniques = |light_selection| Techniques {
-        light_selection,
-        film: Reconstruction::FilterImportance,
-        ..Techniques::default()
-    };
-    let uniform = variance_sum(grid_of_lamps, 4, techniques(LightSelection::Uniform));
-    let bvh = variance_sum(grid_of_lamps, 4, techniques(LightSelection::Bvh));
+    let uniform = variance_sum(grid_of_lamps, 4, selecting(LightSelection::Uniform));
+    let bvh = variance_sum(grid_of_lamps, 4, selecting(LightSelection::Bvh));
     let k = 24 * 24 * 3;
     let ratio = bvh / uniform;
-    assert!(
-        ratio < f_lower_quantile(k),
-        "variance ratio bvh / uniform {ratio:.3}, bound {:.3}",
-        f_lower_quantile(k)
-    );
+    assert_less_variance(ratio, k, "bvh / uniform");
 }
 
 /// The light BVH's choice is unbiased, its MIS weights included (the probability a BSDF-sampled
@@ -342,19 +332,14 @@ fn the_light_bvh_has_less_variance_than_uniform_selection_under_many_lamps() {
 /// difference of two seeds' renders (`variance_sum`).
 #[test]
 fn the_light_bvh_keeps_the_mean() {
-    let techniques = |light_selection| Techniques {
-        light_selection,
-        film: Reconstruction::FilterImportance,
-        ..Techniques::default()
-    };
     let spp = 16;
     let k = (24 * 24) as f64;
     let mean_and_variance = |selection| {
-        let image = render_with(grid_of_lamps(), &options(spp, 8), techniques(selection));
+        let image = render_with(grid_of_lamps(), &options(spp, 8), selecting(selection));
         let mean = image.iter().map(|p| p.as_dvec3()).sum::<glam::DVec3>() / k;
         // Over the three channels: the variance of one channel's pixel, from two seeds.
         let pixel_variance =
-            variance_sum(grid_of_lamps, spp, techniques(selection)) / (2.0 * 3.0 * k);
+            variance_sum(grid_of_lamps, spp, selecting(selection)) / (2.0 * 3.0 * k);
         (mean, pixel_variance / k)
     };
     let (uniform, uniform_variance) = mean_and_variance(LightSelection::Uniform);

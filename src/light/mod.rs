@@ -309,7 +309,8 @@ impl LightTable {
 struct ChoiceByPosition {
     /// The selectable lights at infinity, by light index.
     infinite: Vec<u32>,
-    /// The probability of choosing among `infinite`: n / (n + 1), or 1 without a tree.
+    /// The probability of choosing among `infinite`: n / (n + 1), or without a tree 1 (0
+    /// without lights at infinity either: no light to choose).
     infinite_share: f32,
     /// Over the selectable bounded lights, by light index.
     tree: Option<LightBvh>,
@@ -328,7 +329,11 @@ impl ChoiceByPosition {
         let tree = LightBvh::new(&bounds);
         let n = infinite.len() as f32;
         Self {
-            infinite_share: if tree.is_some() { n / (n + 1.0) } else { 1.0 },
+            infinite_share: match (&tree, infinite.is_empty()) {
+                (Some(_), _) => n / (n + 1.0),
+                (None, false) => 1.0,
+                (None, true) => 0.0,
+            },
             infinite,
             tree,
         }
@@ -461,6 +466,25 @@ mod tests {
                 "{light:?}"
             );
         }
+    }
+
+    /// With the light BVH and lights of no power (black lamps) alone, no light is chosen and
+    /// each has probability 0.
+    #[test]
+    fn the_light_bvh_chooses_no_light_of_no_power() {
+        let dark = |x: f32| {
+            Light::Point(PointLight {
+                position: Vec3::new(x, 0.0, 1.0),
+                intensity: Vec3::ZERO,
+            })
+        };
+        let lights = vec![dark(0.0), dark(1.0)];
+        let table = LightTable::new(lights, &[0.0, 0.0], LightSelection::Bvh, vec![], None);
+        let p = Vec3::new(0.5, 0.0, 0.0);
+        for i in 0..=100 {
+            assert_eq!(table.choose(i as f32 / 100.0, p), None);
+        }
+        assert_eq!(table.selection_probability(0, &p), 0.0);
     }
 
     /// `choose` is the selection table's answer, to the bit, for every `u`: with no selectable
