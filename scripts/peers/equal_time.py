@@ -3,7 +3,7 @@
 
 Run `bash scripts/peers/setup.sh` and `cargo build --release` once, then, from the repository root:
 
-    .venv-peers/bin/python scripts/peers/equal_time.py                 # all five scenes
+    .venv-peers/bin/python scripts/peers/equal_time.py                 # all six scenes
     .venv-peers/bin/python scripts/peers/equal_time.py --scenes furnace --spp 4,16 --repeat 1
 
 For each scene, each renderer is measured against its own converged reference (foton's and
@@ -57,6 +57,7 @@ SCENES = {
     "furnace": PEERS / "furnace.xml",
     "textured": PEERS / "textured.xml",
     "envmap": PEERS / "envmap.xml",
+    "many-lights": PEERS / "many-lights.xml",
 }
 EPS = 1e-2
 FOTON = REPO / "target/release/foton"
