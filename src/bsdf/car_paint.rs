@@ -22,6 +22,7 @@ use super::BsdfSample;
 use super::coated_glossy::CoatedGlossy;
 use super::fresnel::schlick;
 use super::schlick_distribution::{SchlickLobe, half_vector};
+use crate::sampling::ONE_MINUS_EPSILON;
 
 /// One of the three specular lobes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -98,7 +99,7 @@ impl CarPaint {
         let n = self.components();
         let scaled = u.x * n as f32;
         let pick = (scaled as usize).min(n - 1);
-        let u = Vec2::new((scaled - pick as f32).min(1.0 - f32::EPSILON / 2.0), u.y);
+        let u = Vec2::new((scaled - pick as f32).min(ONE_MINUS_EPSILON), u.y);
         let wi = match self.present_lobes().nth(pick) {
             Some(lobe) => lobe.lobe().sample(wo, u),
             None => self.base.sample(wo, u)?.wi,

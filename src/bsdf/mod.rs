@@ -39,6 +39,7 @@ pub mod thin_film;
 pub mod velvet;
 
 use crate::math;
+use crate::sampling::ONE_MINUS_EPSILON;
 pub use blinn_plastic::BlinnPlastic;
 pub use car_paint::{CarPaint, CarPaintLobe};
 pub use coated_glossy::CoatedGlossy;
@@ -171,9 +172,6 @@ pub struct SmoothGlass {
     pub transmittance: Vec3,
     pub eta: f32,
 }
-
-/// The largest f32 below 1, the upper bound of a canonical sample.
-pub(crate) const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// A sample coordinate clamped to [0, 1); NaN becomes 0.
 fn canonical(x: f32) -> f32 {

@@ -15,8 +15,8 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::Vec3;
 
-use crate::bsdf::ONE_MINUS_EPSILON;
 use crate::math::sin_cos_eighth_turn;
+use crate::sampling::ONE_MINUS_EPSILON;
 
 /// Lanes per value.
 pub const LANES: usize = 8;

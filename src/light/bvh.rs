@@ -15,6 +15,8 @@ use std::f32::consts::{FRAC_PI_2, PI};
 
 use glam::{Vec3, Vec4};
 
+use crate::sampling::ONE_MINUS_EPSILON;
+
 /// What a node knows of the lights under it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightBounds {
@@ -332,7 +334,7 @@ impl LightBvh {
                 Child::Node(index) => node = &self.nodes[index as usize],
                 Child::Empty => return None,
             }
-            u = ((u - below) / share).clamp(0.0, ONE_BELOW_ONE);
+            u = ((u - below) / share).clamp(0.0, ONE_MINUS_EPSILON);
         }
     }
 
@@ -382,9 +384,6 @@ fn child_probabilities(node: &Node, p: Vec3) -> Option<Vec4> {
     let total = importance.element_sum();
     (total > 0.0).then(|| importance / total)
 }
-
-/// The largest f32 below 1.
-const ONE_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Reorders `items` for the cheapest split by [`LightBounds::cost`] among the bucket
 /// boundaries along each axis of the centroids' box; returns where the second part starts, or

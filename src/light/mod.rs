@@ -14,7 +14,7 @@ pub mod sun_disc;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 
-use crate::sampling::AliasTable;
+use crate::sampling::{AliasTable, ONE_MINUS_EPSILON};
 use crate::shape::geometry::SceneGeometry;
 use area::AreaLight;
 use bvh::{LightBounds, LightBvh};
@@ -347,7 +347,7 @@ impl ChoiceByPosition {
             return Some((self.infinite[k] as usize, share / n as f32));
         }
         let tree = self.tree.as_ref()?;
-        let u = ((u - share) / (1.0 - share)).min(1.0 - f32::EPSILON / 2.0);
+        let u = ((u - share) / (1.0 - share)).min(ONE_MINUS_EPSILON);
         let (light, probability) = tree.sample(p, u)?;
         Some((light as usize, probability * (1.0 - share)))
     }
