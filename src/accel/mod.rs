@@ -36,6 +36,7 @@ use std::time::{Duration, Instant};
 use glam::{Affine3A, Vec3, Vec3A};
 use rayon::prelude::*;
 
+pub(crate) use aabb::Aabb;
 use blas::Blas;
 use bvh::{Ray, Shape};
 use disk::Disk;

@@ -5,11 +5,11 @@
 
 use std::f32::consts::PI;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3A};
 
 use super::LightSample;
 use super::bvh::LightBounds;
-use crate::accel::PrimitiveRef;
+use crate::accel::{Aabb, PrimitiveRef};
 use crate::film::luminance;
 use crate::math::normalize_or;
 use crate::sampling::AliasTable;
@@ -130,25 +130,11 @@ impl AreaLight {
     /// area-weighted mean normal that holds every one), a sphere's the whole sphere; each
     /// emits over the hemisphere about its normal.
     pub fn bounds(&self) -> LightBounds {
-        let flat = |points: &mut dyn Iterator<Item = Vec3>, axis: Vec3, cos_normals: f32| {
-            let (min, max) = points.fold(
-                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                |(min, max), p| (min.min(p), max.max(p)),
-            );
-            LightBounds {
-                min,
-                max,
-                axis,
-                cos_normals,
-                cos_emission: 0.0,
-                power: self.power(),
-            }
-        };
-        match &self.shape {
+        let around = |points: &[Vec3]| Aabb::from_points(points.iter().map(|&p| p.into()));
+        let (bounds, axis, cos_normals) = match &self.shape {
             EmitterShape::Parallelogram(q) => {
-                let corners = [q.corner, q.corner + q.edge1, q.corner + q.edge2];
-                let mut points = corners.into_iter().chain([corners[1] + q.edge2]);
-                flat(&mut points, q.normal, 1.0)
+                let (a, b) = (q.corner + q.edge1, q.corner + q.edge2);
+                (around(&[q.corner, a, b, a + q.edge2]), q.normal, 1.0)
             }
             EmitterShape::Triangles { triangles, .. } => {
                 let weighted: Vec3 = (triangles.iter()).map(|t| t.edge1.cross(t.edge2)).sum();
@@ -160,26 +146,37 @@ impl AreaLight {
                         .map(|t| t.normal.dot(axis))
                         .fold(1.0f32, f32::min)
                 };
-                let mut points = triangles
-                    .iter()
-                    .flat_map(|t| [t.p0, t.p0 + t.edge1, t.p0 + t.edge2]);
-                flat(&mut points, axis.normalize_or(Vec3::Z), cos_normals)
+                let corners = (triangles.iter())
+                    .flat_map(|t| [t.p0, t.p0 + t.edge1, t.p0 + t.edge2])
+                    .map(Vec3A::from);
+                (
+                    Aabb::from_points(corners),
+                    axis.normalize_or(Vec3::Z),
+                    cos_normals,
+                )
             }
-            EmitterShape::Sphere { centre, radius } => LightBounds {
-                min: *centre - *radius,
-                max: *centre + *radius,
-                axis: Vec3::Z,
-                cos_normals: -1.0,
-                cos_emission: 0.0,
-                power: self.power(),
-            },
+            EmitterShape::Sphere { centre, radius } => (
+                around(&[*centre - *radius, *centre + *radius]),
+                Vec3::Z,
+                -1.0,
+            ),
             EmitterShape::Disk(disk) => {
                 // The ellipse centre + a Mx + b My over a^2 + b^2 <= 1 reaches
                 // sqrt(Mx_i^2 + My_i^2) from its centre along axis i.
                 let reach = (disk.axis_x * disk.axis_x + disk.axis_y * disk.axis_y).sqrt();
-                let mut points = [disk.centre - reach, disk.centre + reach].into_iter();
-                flat(&mut points, disk.normal, 1.0)
+                (
+                    around(&[disk.centre - reach, disk.centre + reach]),
+                    disk.normal,
+                    1.0,
+                )
             }
+        };
+        LightBounds {
+            bounds,
+            axis,
+            cos_normals,
+            cos_emission: 0.0,
+            power: self.power(),
         }
     }
 

@@ -13,15 +13,16 @@
 
 use std::f32::consts::{FRAC_PI_2, PI};
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 
+use crate::accel::Aabb;
 use crate::sampling::ONE_MINUS_EPSILON;
 
 /// What a node knows of the lights under it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightBounds {
-    pub min: Vec3,
-    pub max: Vec3,
+    /// The box that holds the lights.
+    pub(crate) bounds: Aabb,
     /// Axis of the cone that holds every emitting surface's normal (any unit vector when the
     /// cone is the whole sphere).
     pub axis: Vec3,
@@ -38,8 +39,7 @@ impl LightBounds {
     /// A light at one point that shines every way (a point light).
     pub fn point(position: Vec3, power: f32) -> Self {
         Self {
-            min: position,
-            max: position,
+            bounds: Aabb::from_points([position.into()]),
             axis: Vec3::Z,
             cos_normals: -1.0,
             cos_emission: 0.0,
@@ -61,8 +61,7 @@ impl LightBounds {
             (other.axis, other.cos_normals),
         );
         Self {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
+            bounds: self.bounds.union(other.bounds),
             axis,
             cos_normals,
             cos_emission: self.cos_emission.min(other.cos_emission),
@@ -71,7 +70,7 @@ impl LightBounds {
     }
 
     fn centroid(&self) -> Vec3 {
-        (self.min + self.max) * 0.5
+        self.bounds.centroid().into()
     }
 
     /// The cost of a node with these bounds in the build's split search (pbrt-v4's
@@ -79,7 +78,7 @@ impl LightBounds {
     /// solid-angle measure M_Omega of the directions the node may emit in, times the box's
     /// surface area, times the box's aspect along the split axis `axis` of `extent` (favouring
     /// cuts across long boxes).
-    fn cost(&self, extent: Vec3, axis: usize) -> f32 {
+    fn cost(&self, extent: Vec3A, axis: usize) -> f32 {
         let theta_o = self.cos_normals.clamp(-1.0, 1.0).acos();
         let theta_e = self.cos_emission.clamp(-1.0, 1.0).acos();
         let theta_w = (theta_o + theta_e).min(PI);
@@ -91,10 +90,8 @@ impl LightBounds {
             + FRAC_PI_2
                 * (2.0 * theta_w * sin_o - (theta_o - 2.0 * theta_w).cos() - 2.0 * theta_o * sin_o
                     + self.cos_normals);
-        let size = self.max - self.min;
-        let area = 2.0 * (size.x * size.y + size.y * size.z + size.z * size.x);
         let aspect = extent.max_element() / extent[axis];
-        self.power * m_omega * aspect * area
+        self.power * m_omega * aspect * self.bounds.surface_area()
     }
 }
 
@@ -123,8 +120,8 @@ impl ChildBounds {
         };
         Self {
             centre: coordinate(&|b| b.centroid()),
-            radius: lanes(&|b| (b.max - b.min).length() * 0.5),
-            radius_squared: lanes(&|b| (b.max - b.min).length_squared() * 0.25),
+            radius: lanes(&|b| b.bounds.extent().length() * 0.5),
+            radius_squared: lanes(&|b| b.bounds.extent().length_squared() * 0.25),
             axis: coordinate(&|b| b.axis),
             cos_normals: lanes(&|b| b.cos_normals),
             sin_normals: lanes(&|b| (1.0 - b.cos_normals * b.cos_normals).max(0.0).sqrt()),
@@ -390,12 +387,13 @@ fn child_probabilities(node: &Node, p: Vec3) -> Option<Vec4> {
 /// `None` when no split has a finite positive cost (centroids that coincide, or boxes and
 /// cones of no measure).
 fn split_by_cost(items: &mut [(u32, LightBounds)]) -> Option<usize> {
-    let bounds = items[1..].iter().fold(items[0].1, |b, (_, i)| b.union(i));
-    let (low, high) = items.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(low, high), (_, b)| (low.min(b.centroid()), high.max(b.centroid())),
-    );
-    let extent = bounds.max - bounds.min;
+    let extent = (items.iter())
+        .fold(Aabb::EMPTY, |bounds, (_, b)| bounds.union(b.bounds))
+        .extent();
+    let Aabb {
+        min: low,
+        max: high,
+    } = centroid_bounds(items);
     let bucket_of = |b: &LightBounds, axis: usize| {
         let t = (b.centroid()[axis] - low[axis]) / (high[axis] - low[axis]);
         ((t * BUCKETS as f32) as usize).min(BUCKETS - 1)
@@ -434,14 +432,15 @@ fn split_by_cost(items: &mut [(u32, LightBounds)]) -> Option<usize> {
     (0 < mid && mid < items.len()).then_some(mid)
 }
 
+/// The box of the lights' centroids.
+fn centroid_bounds(items: &[(u32, LightBounds)]) -> Aabb {
+    Aabb::from_points(items.iter().map(|(_, b)| b.bounds.centroid()))
+}
+
 /// Sorts `items` by centroid along the axis of their centroids' widest spread and returns the
 /// middle.
 fn split_at_median(items: &mut [(u32, LightBounds)]) -> usize {
-    let (low, high) = items.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(low, high), (_, b)| (low.min(b.centroid()), high.max(b.centroid())),
-    );
-    let axis = (high - low).max_position();
+    let axis = centroid_bounds(items).extent().max_position();
     items.sort_by(|(_, a), (_, b)| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
     items.len() / 2
 }
@@ -454,8 +453,7 @@ mod tests {
     fn lamp(centre: Vec3, normal: Vec3, size: f32, power: f32) -> LightBounds {
         let half = Vec3::splat(size / 2.0) * (Vec3::ONE - normal.abs());
         LightBounds {
-            min: centre - half,
-            max: centre + half,
+            bounds: Aabb::from_points([(centre - half).into(), (centre + half).into()]),
             axis: normal,
             cos_normals: 1.0,
             cos_emission: 0.0,
