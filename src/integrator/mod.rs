@@ -69,9 +69,9 @@ pub struct Renderer {
     passes_done: u32,
     /// The pass rendering stops before (`--passes A..B`: B); all of them when `None`.
     end_pass: Option<u32>,
-    /// The film samples of the last chunk traced, and its pass: splatted beside the next
-    /// chunk's stages, or when the render returns.
-    unsplatted: (FinishedSamples, u32),
+    /// The last chunk traced's film samples: splatted beside the next chunk's stages, or when
+    /// the render returns.
+    unsplatted: ChunkSamples,
 }
 
 /// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
@@ -423,7 +423,7 @@ impl Renderer {
         let world = &mut self.world;
         let time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
         splat_timed(&mut world.resource_mut::<Film>(), &self.unsplatted, time);
-        self.unsplatted.0.clear();
+        self.unsplatted.samples.clear();
         RenderStats {
             passes,
             paths,
@@ -464,9 +464,8 @@ impl Renderer {
             || splat_timed(&mut film, unsplatted, splat_time),
         );
         world.insert_resource(film);
-        let (samples, chunk_pass) = &mut self.unsplatted;
-        world.resource_mut::<PathBatch>().take_finished(samples);
-        *chunk_pass = pass;
+        (world.resource_mut::<PathBatch>()).take_finished(&mut self.unsplatted.samples);
+        self.unsplatted.pass = pass;
         rays
     }
 }
@@ -475,11 +474,17 @@ impl Renderer {
 /// [`Renderer::trace_chunk`]).
 const SPLAT_STAGE: &str = "film splat (beside them)";
 
-/// Splats `samples` of pass `pass` on `film`, adding the time taken to `time` when stages are
-/// timed.
+/// A chunk's film samples and the pass they belong to.
+#[derive(Default)]
+struct ChunkSamples {
+    samples: FinishedSamples,
+    pass: u32,
+}
+
+/// Splats a chunk's samples on `film`, adding the time taken to `time` when stages are timed.
 fn splat_timed(
     film: &mut Film,
-    (samples, pass): &(FinishedSamples, u32),
+    ChunkSamples { samples, pass }: &ChunkSamples,
     time: Option<&mut StageTime>,
 ) {
     let start = Instant::now();
