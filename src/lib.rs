@@ -13,4 +13,5 @@ pub mod sampling;
 pub mod scene;
 pub mod settings;
 pub mod shape;
+pub mod shared;
 pub mod texture;

@@ -9,6 +9,7 @@ use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::Geometry;
 use foton::shape::geometry::SceneGeometry;
+use foton::shared::Shared;
 use glam::{Affine3A, Quat, Vec3};
 
 /// A scene of one textured disk (so that its uv is kept) placed by `transform`, with
@@ -43,7 +44,7 @@ fn hits_give_mitsubas_uv_and_normal() {
     let (world, _) = build_world(desc, &RenderOptions::default());
     // The renderer's startup systems build the geometry.
     let renderer = Renderer::new(world);
-    let geometry = renderer.world.resource::<SceneGeometry>();
+    let geometry = renderer.world.resource::<Shared<SceneGeometry>>();
     let to_world = Affine3A::from_scale_rotation_translation(
         Vec3::splat(2.0),
         Quat::from_axis_angle(axis, angle.to_radians()),

@@ -8,6 +8,7 @@ use std::fmt::Write;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::shape::geometry::SceneGeometry;
+use foton::shared::Shared;
 use glam::Vec3;
 
 /// A UV sphere of radius 0.4 as an inline `trianglemesh` with smooth normals and uvs (u around,
@@ -106,7 +107,7 @@ fn render(instanced: bool, seed: u64) -> (Vec<Vec3>, usize, Vec<String>) {
     };
     let (world, _) = build_world(desc, &options);
     let mut renderer = Renderer::new(world);
-    let g = renderer.world.resource::<SceneGeometry>();
+    let g = renderer.world.resource::<Shared<SceneGeometry>>();
     let bytes = g.accel.stats().bytes
         + size(&g.triangles)
         + size(&g.triangle_normals)

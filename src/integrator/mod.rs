@@ -5,14 +5,16 @@
 //! chunk:    start_pass → camera (generate → lens → to world)
 //! bounce:   trace_closest_hits → shade (path or raycast) → trace_shadow_rays
 //!           → gather_unoccluded_light → retire_finished_paths   (repeated while paths live)
-//! film:     the chunk's samples splatted, beside the next chunk's stages
+//! film:     the chunks' samples splatted in chunk order, beside the next chunks' stages
 //! ```
 //!
 //! A pass (one sample per pixel) runs as chunks of consecutive pixels, each traced through all
-//! its bounces before the next, so that a chunk's batches stay in the caches between stages
-//! rather than streaming the whole image through memory at every stage. A path's result depends
-//! only on its pixel, pass and seed, and every pixel takes one sample per pass, so the image is
-//! the same whatever the chunk size and thread count.
+//! its bounces in one world, so that a chunk's batches stay in the caches between stages
+//! rather than streaming the whole image through memory at every stage; with several threads,
+//! as many chunks are traced at once, each in a world of its own ([`in_flight`]). A path's
+//! result depends only on its pixel, pass and seed, every pixel takes one sample per pass, and
+//! the film takes the chunks in order, so the image is the same whatever the chunk size and
+//! thread count.
 
 pub mod accumulate;
 pub mod batch;
@@ -20,6 +22,7 @@ mod conductor_lanes;
 mod diffuse_lanes;
 mod escaped_lanes;
 mod glass_lanes;
+mod in_flight;
 pub(crate) mod lanes;
 pub mod shade_path;
 pub mod shade_raycast;
@@ -39,8 +42,10 @@ use crate::material::texture::TextureTable;
 use crate::sampling::PADDED_DRAWS;
 use crate::settings::{IntegratorKind, RenderSettings, Techniques};
 use crate::shape::geometry::{SceneGeometry, build_scene_geometry};
+use crate::shared::Shared;
 use accumulate::{gather_unoccluded_light, retire_finished_paths};
 use batch::{FinishedSamples, HitBatch, PathBatch, ShadowBatch};
+use in_flight::{ChunkWorld, MAX_IN_FLIGHT};
 use shade_path::shade_path_vertices;
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
 use start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, start_pass};
@@ -62,6 +67,9 @@ pub struct Renderer {
     chunk: Schedule,
     /// One bounce, stage by stage.
     bounce: Vec<Stage>,
+    /// The worlds tracing the other chunks in flight beside the main world's (one fewer than
+    /// the threads, up to [`MAX_IN_FLIGHT`]); made at the first render, for its thread pool.
+    others: Vec<ChunkWorld>,
     chunk_paths: usize,
     /// Time and work per stage, when asked for: the chunk start first, then the bounce stages.
     stage_times: Option<Vec<StageTime>>,
@@ -69,9 +77,9 @@ pub struct Renderer {
     passes_done: u32,
     /// The pass rendering stops before (`--passes A..B`: B); all of them when `None`.
     end_pass: Option<u32>,
-    /// The last chunk traced's film samples: splatted beside the next chunk's stages, or when
-    /// the render returns.
-    unsplatted: ChunkSamples,
+    /// The film samples of the chunks last traced, in chunk order: splatted beside the next
+    /// chunks' stages, or when the render returns.
+    unsplatted: Vec<ChunkSamples>,
 }
 
 /// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
@@ -172,7 +180,7 @@ impl Renderer {
         let (rays_per_path, slot_per_light, draws_ahead) = match settings.integrator {
             IntegratorKind::PathTracer => (1, false, PADDED_DRAWS),
             IntegratorKind::RayCaster => (
-                shadow_rays_per_path(world.resource::<LightTable>()),
+                shadow_rays_per_path(world.resource::<Shared<LightTable>>()),
                 true,
                 shade_raycast::DRAWS_AHEAD,
             ),
@@ -184,28 +192,12 @@ impl Renderer {
         register_cameras(&mut chunk, &mut world);
         chunk.add_systems(start_pass.before(CameraStage::Generate));
 
-        // The integrator is the choice of shading stage; every other stage is shared.
-        let shade = match settings.integrator {
-            IntegratorKind::PathTracer => Stage::new(shade_path_vertices),
-            IntegratorKind::RayCaster => Stage::new(shade_raycast_hits),
-        };
-        let bounce = vec![
-            Stage::new(trace_closest_hits),
-            shade,
-            Stage {
-                works_on: StageItems::ShadowRays,
-                ..Stage::new(trace_shadow_rays)
-            },
-            Stage {
-                works_on: StageItems::ShadowResults,
-                ..Stage::new(gather_unoccluded_light)
-            },
-            Stage::new(retire_finished_paths),
-        ];
+        let bounce = bounce_stages(settings.integrator);
         Self {
             world,
             chunk,
             bounce,
+            others: Vec::new(),
             chunk_paths: DEFAULT_CHUNK_PATHS,
             stage_times: None,
             passes_done: 0,
@@ -224,20 +216,30 @@ impl Renderer {
         let names = std::iter::once("start_pass + camera")
             .chain(self.bounce.iter().map(|s| s.name))
             .chain([SPLAT_STAGE]);
-        self.stage_times = Some(
-            names
-                .map(|name| StageTime {
-                    name,
-                    time: Duration::ZERO,
-                    items: 0,
-                })
-                .collect(),
-        );
+        let times: Vec<StageTime> = names
+            .map(|name| StageTime {
+                name,
+                time: Duration::ZERO,
+                items: 0,
+            })
+            .collect();
+        for other in &mut self.others {
+            other.times = Some(times.clone());
+        }
+        self.stage_times = Some(times);
     }
 
-    /// Time and items per stage so far, if [`Renderer::time_stages`] was called.
-    pub fn stage_times(&self) -> Option<&[StageTime]> {
-        self.stage_times.as_deref()
+    /// Time and items per stage so far, if [`Renderer::time_stages`] was called: summed over
+    /// the worlds in flight, whose stages overlap in time.
+    pub fn stage_times(&self) -> Option<Vec<StageTime>> {
+        let mut sums = self.stage_times.clone()?;
+        for times in self.others.iter().filter_map(|other| other.times.as_ref()) {
+            for (sum, time) in sums.iter_mut().zip(times) {
+                sum.time += time.time;
+                sum.items += time.items;
+            }
+        }
+        Some(sums)
     }
 
     /// The film's current estimate: mean radiance per pixel, rows from the top.
@@ -253,7 +255,7 @@ impl Renderer {
     pub fn describe(&mut self) -> String {
         let world = &mut self.world;
         let settings = world.resource::<RenderSettings>().clone();
-        let geometry = world.resource::<SceneGeometry>();
+        let geometry = world.resource::<Shared<SceneGeometry>>();
         let stats = geometry.accel.stats();
         let mut lines = vec![
             format!(
@@ -293,7 +295,7 @@ impl Renderer {
                 stats.build_time.as_secs_f64() * 1e3
             ),
         ];
-        let lights = world.resource::<LightTable>();
+        let lights = world.resource::<Shared<LightTable>>();
         lines.push(format!(
             "lights: {} ({}); MIS {}",
             lights.lights.len(),
@@ -374,7 +376,13 @@ impl Renderer {
     /// Renders passes until the samples per pixel or the time limit (checked at the end of each
     /// pass) are reached, or until `on_progress`, told after each chunk how far the render is,
     /// returns false.
+    ///
+    /// The chunks are traced in groups, one chunk per world in flight (see
+    /// [`in_flight`](self::in_flight)). A group may run past the chunk after which the render
+    /// stops: its later chunks' samples are dropped, so the film holds what a render one chunk
+    /// at a time would hold.
     pub fn render(&mut self, mut on_progress: impl FnMut(Progress) -> bool) -> RenderStats {
+        self.fit_worlds_in_flight();
         let settings = self.world.resource::<RenderSettings>().clone();
         let pixels = settings.path_count();
         let chunk = self.chunk_paths.min(pixels.max(1));
@@ -385,45 +393,68 @@ impl Renderer {
         let mut passes = self.passes_done;
         let resumed_paths = u64::from(passes) * pixels as u64;
         let mut complete_passes = true;
-        'passes: while passes < end_pass {
-            self.world.resource_mut::<PassIndex>().0 = passes;
-            for first in (0..pixels).step_by(chunk) {
-                let count = chunk.min(pixels - first);
-                *self.world.resource_mut::<ChunkRange>() = ChunkRange {
-                    first: first as u32,
-                    count: count as u32,
+        // The next chunk to trace.
+        let mut next = ChunkJob {
+            pass: passes,
+            first: 0,
+            count: chunk.min(pixels),
+        };
+        let in_flight = 1 + self.others.len();
+        'groups: while next.pass < end_pass && pixels > 0 {
+            let mut group = Vec::with_capacity(in_flight);
+            while group.len() < in_flight && next.pass < end_pass {
+                group.push(next);
+                let first = next.first + next.count;
+                next = match first == pixels {
+                    true => ChunkJob {
+                        pass: next.pass + 1,
+                        first: 0,
+                        count: chunk.min(pixels),
+                    },
+                    false => ChunkJob {
+                        pass: next.pass,
+                        first,
+                        count: chunk.min(pixels - first),
+                    },
                 };
-                // On a worker of the thread pool, the stages' parallel loops hand their halves to
-                // the other workers directly; from outside it, each loop would be injected into
-                // the pool and this thread put to sleep until it ends (two wake-ups per loop,
-                // about ten loops per bounce).
-                rays += rayon::scope(|_| self.trace_chunk(count, passes));
-                paths += count as u64;
-                let pass_done = first + count == pixels;
+            }
+            // On a worker of the thread pool, the stages' parallel loops hand their halves to
+            // the other workers directly; from outside it, each loop would be injected into
+            // the pool and this thread put to sleep until it ends (two wake-ups per loop,
+            // about ten loops per bounce).
+            let group_rays = rayon::scope(|_| self.trace_group(&group));
+            for (k, (job, job_rays)) in group.iter().zip(group_rays).enumerate() {
+                rays += job_rays;
+                paths += job.count as u64;
+                let pass_done = job.first + job.count == pixels;
                 passes += u32::from(pass_done);
+                self.passes_done = passes;
                 let progress = Progress {
                     paths_done: resumed_paths + paths,
                     paths_total,
                     passes_done: passes,
                 };
-                if !on_progress(progress) {
+                let stop = !on_progress(progress);
+                if stop {
                     complete_passes = pass_done;
-                    self.passes_done = passes;
-                    break 'passes;
                 }
-            }
-            self.passes_done = passes;
-            if settings
-                .time_limit
-                .is_some_and(|limit| start.elapsed() >= limit)
-            {
-                break;
+                let time_up = pass_done
+                    && settings
+                        .time_limit
+                        .is_some_and(|limit| start.elapsed() >= limit);
+                if stop || time_up {
+                    self.unsplatted.truncate(k + 1);
+                    break 'groups;
+                }
             }
         }
         let world = &mut self.world;
-        let time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
-        splat_timed(&mut world.resource_mut::<Film>(), &self.unsplatted, time);
-        self.unsplatted.samples.clear();
+        let mut film = world.resource_mut::<Film>();
+        let mut time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
+        for samples in &self.unsplatted {
+            splat_timed(&mut film, samples, time.as_deref_mut());
+        }
+        self.unsplatted.clear();
         RenderStats {
             passes,
             paths,
@@ -433,18 +464,41 @@ impl Renderer {
         }
     }
 
-    /// Traces the chunk of `count` camera paths of pass `pass` set in [`ChunkRange`] through
-    /// all its bounces, while the last chunk's samples are splatted; keeps this chunk's samples
-    /// for the next. Returns the rays traced.
+    /// Makes one world in flight per thread of the pool the render runs in (up to
+    /// [`MAX_IN_FLIGHT`]): the main world and the others.
+    fn fit_worlds_in_flight(&mut self) {
+        let others = rayon::current_num_threads().clamp(1, MAX_IN_FLIGHT) - 1;
+        self.others.truncate(others);
+        while self.others.len() < others {
+            let integrator = self.world.resource::<RenderSettings>().integrator;
+            let mut other = ChunkWorld::new(&self.world, bounce_stages(integrator));
+            other.times = (self.stage_times.as_ref()).map(|times| {
+                let zero = |time: &StageTime| StageTime {
+                    time: Duration::ZERO,
+                    items: 0,
+                    ..time.clone()
+                };
+                times.iter().map(zero).collect()
+            });
+            self.others.push(other);
+        }
+    }
+
+    /// Traces the chunks of `group` (one for each world in flight, or fewer), set in turn in
+    /// [`ChunkRange`] and [`PassIndex`], through all their bounces, while the film splats the
+    /// last group's samples; keeps this group's samples, in chunk order, for the next. Returns
+    /// each chunk's rays.
     ///
-    /// The splat is one task, which another thread takes while this one starts the stages (it
-    /// is the oldest task in this thread's queue), and the stages' parallel loops share the
-    /// rest: the film's sums take their samples in one order, chunk after chunk, each in
-    /// (bounce, slot) order, so the image is the same at any thread count. Splatted in parallel
-    /// over bands of rows instead, a sample near a band's edge had its weights computed by both
-    /// bands, and the splat scaled 1.05x-1.18x from one thread to two (docs/speed.md, stop 34).
-    /// On one thread the splat follows the stages.
-    fn trace_chunk(&mut self, count: usize, pass: u32) -> u64 {
+    /// The chunks start one after another in the main world, each but the last then moving to
+    /// a world of its own, and their bounces run at once, the threads sharing the stages'
+    /// parallel loops. The splat is one task, which another thread takes while this one starts
+    /// the chunks (it is the oldest task in this thread's queue): the film's sums take their
+    /// samples in one order, chunk after chunk, each in (bounce, slot) order, so the image is
+    /// the same at any thread count. Splatted in parallel over bands of rows instead, a sample
+    /// near a band's edge had its weights computed by both bands, and the splat scaled
+    /// 1.05x-1.18x from one thread to two (docs/speed.md, stop 34). On one thread the splat
+    /// follows the stages.
+    fn trace_group(&mut self, group: &[ChunkJob]) -> Vec<u64> {
         let world = &mut self.world;
         // The splat's time is the last entry, the stages' the others.
         let (splat_time, times) = match self.stage_times.as_deref_mut() {
@@ -459,19 +513,101 @@ impl Renderer {
             .expect("a renderer's world has a film");
         let unsplatted = &self.unsplatted;
         let (chunk, bounce) = (&mut self.chunk, &mut self.bounce);
-        let (rays, ()) = rayon::join(
-            || trace_stages(chunk, bounce, world, times, count),
-            || splat_timed(&mut film, unsplatted, splat_time),
+        let others = &mut self.others[..group.len() - 1];
+        let mut rays = vec![0; group.len()];
+        rayon::join(
+            || trace_chunks(chunk, (world, bounce, times), others, group, &mut rays),
+            || {
+                let mut time = splat_time;
+                for samples in unsplatted {
+                    splat_timed(&mut film, samples, time.as_deref_mut());
+                }
+            },
         );
         world.insert_resource(film);
-        (world.resource_mut::<PathBatch>()).take_finished(&mut self.unsplatted.samples);
-        self.unsplatted.pass = pass;
+        // The samples in chunk order: the other worlds' chunks came first.
+        let worlds = (self.others.iter_mut().map(|other| &mut other.world))
+            .take(group.len() - 1)
+            .chain([&mut self.world]);
+        self.unsplatted.resize_with(group.len(), Default::default);
+        for ((world, job), samples) in worlds.zip(group).zip(&mut self.unsplatted) {
+            (world.resource_mut::<PathBatch>()).take_finished(&mut samples.samples);
+            samples.pass = job.pass;
+        }
         rays
     }
 }
 
+/// The bounce stages of `integrator`: the integrator is the choice of shading stage; every
+/// other stage is shared.
+fn bounce_stages(integrator: IntegratorKind) -> Vec<Stage> {
+    let shade = match integrator {
+        IntegratorKind::PathTracer => Stage::new(shade_path_vertices),
+        IntegratorKind::RayCaster => Stage::new(shade_raycast_hits),
+    };
+    vec![
+        Stage::new(trace_closest_hits),
+        shade,
+        Stage {
+            works_on: StageItems::ShadowRays,
+            ..Stage::new(trace_shadow_rays)
+        },
+        Stage {
+            works_on: StageItems::ShadowResults,
+            ..Stage::new(gather_unoccluded_light)
+        },
+        Stage::new(retire_finished_paths),
+    ]
+}
+
+/// A chunk of a pass: its pixels `first..first + count`.
+#[derive(Clone, Copy, Debug)]
+struct ChunkJob {
+    pass: u32,
+    first: usize,
+    count: usize,
+}
+
+/// The main world with its bounce stages and, when stages are timed, their times (the chunk
+/// start's first).
+type MainWorld<'a> = (&'a mut World, &'a mut [Stage], Option<&'a mut [StageTime]>);
+
+/// Starts the chunks of `group` in the main world, one after another, moving each but the last
+/// to its world in `others`, then traces all their bounces at once; each chunk's rays into
+/// `rays`.
+fn trace_chunks(
+    chunk: &mut Schedule,
+    (world, bounce, mut times): MainWorld,
+    others: &mut [ChunkWorld],
+    group: &[ChunkJob],
+    rays: &mut [u64],
+) {
+    for (k, job) in group.iter().enumerate() {
+        world.resource_mut::<PassIndex>().0 = job.pass;
+        *world.resource_mut::<ChunkRange>() = ChunkRange {
+            first: job.first as u32,
+            count: job.count as u32,
+        };
+        let time = times.as_deref_mut().map(|t| &mut t[0]);
+        run_timed(chunk, world, time, job.count);
+        if let Some(other) = others.get_mut(k) {
+            other.take_chunk(world);
+        }
+    }
+    let (main_rays, others_rays) = rays.split_last_mut().expect("a group has a chunk");
+    rayon::scope(|scope| {
+        for (other, rays) in others.iter_mut().zip(others_rays) {
+            scope.spawn(move |_| {
+                let times = other.times.as_deref_mut();
+                *rays = trace_bounces(&mut other.bounce, &mut other.world, times);
+            });
+        }
+        *main_rays = trace_bounces(bounce, world, times);
+    });
+}
+
 /// Name of the film's splat in the stage times (it runs beside the stages, see
-/// [`Renderer::trace_chunk`]).
+/// [`Renderer::trace_group`]).
 const SPLAT_STAGE: &str = "film splat (beside them)";
 
 /// A chunk's film samples and the pass they belong to.
@@ -498,17 +634,13 @@ fn splat_timed(
     }
 }
 
-/// Runs the chunk's start and its bounces for `count` camera paths, each stage timed into its
-/// entry of `times` (the start first, then the bounce stages) when stages are timed; returns
-/// the rays traced.
-fn trace_stages(
-    chunk: &mut Schedule,
+/// Runs the bounces of the chunk started in `world` until no path lives, each stage timed into
+/// its entry of `times` (after the chunk start's) when stages are timed; returns the rays traced.
+fn trace_bounces(
     bounce: &mut [Stage],
     world: &mut World,
     mut times: Option<&mut [StageTime]>,
-    count: usize,
 ) -> u64 {
-    run_timed(chunk, world, times.as_deref_mut().map(|t| &mut t[0]), count);
     let mut rays = 0;
     loop {
         let live = world.resource::<PathBatch>().len;

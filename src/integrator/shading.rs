@@ -19,6 +19,7 @@ use crate::sampling::{FirstDraws, PADDED_DRAWS, PathDraws, PathRng};
 use crate::settings::{RenderSettings, Techniques};
 use crate::shape::geometry::SceneGeometry;
 use crate::shape::surface::SurfacePoint;
+use crate::shared::Shared;
 use crate::texture::ShadingPoint;
 
 /// Chains of pass-through (null material) surfaces longer than this end the path.
@@ -27,10 +28,10 @@ pub const MAX_PASS_THROUGH: u32 = 64;
 /// What a shading stage reads, as one system parameter.
 #[derive(SystemParam)]
 pub struct ShadingInputs<'w> {
-    geometry: Res<'w, SceneGeometry>,
+    geometry: Res<'w, Shared<SceneGeometry>>,
     materials: Res<'w, MaterialTable>,
     textures: Option<Res<'w, TextureTable>>,
-    lights: Res<'w, LightTable>,
+    lights: Res<'w, Shared<LightTable>>,
     settings: Res<'w, RenderSettings>,
     techniques: Res<'w, Techniques>,
     hits: Res<'w, HitBatch>,

@@ -6,9 +6,10 @@ use rayon::prelude::*;
 
 use super::batch::{HitBatch, PathBatch, ShadowBatch};
 use crate::shape::geometry::SceneGeometry;
+use crate::shared::Shared;
 
 pub fn trace_closest_hits(
-    geometry: Res<SceneGeometry>,
+    geometry: Res<Shared<SceneGeometry>>,
     batch: Res<PathBatch>,
     mut hits: ResMut<HitBatch>,
 ) {
@@ -29,7 +30,7 @@ pub fn trace_closest_hits(
     );
 }
 
-pub fn trace_shadow_rays(geometry: Res<SceneGeometry>, mut shadows: ResMut<ShadowBatch>) {
+pub fn trace_shadow_rays(geometry: Res<Shared<SceneGeometry>>, mut shadows: ResMut<ShadowBatch>) {
     let shadows = &mut *shadows;
     let accel = &geometry.accel;
     let pass_through = geometry.pass_through.as_ref();

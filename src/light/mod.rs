@@ -16,6 +16,7 @@ use glam::{Vec2, Vec3};
 
 use crate::sampling::{AliasTable, ONE_MINUS_EPSILON};
 use crate::shape::geometry::SceneGeometry;
+use crate::shared::Shared;
 use area::AreaLight;
 use bvh::{LightBounds, LightBvh};
 use distant::DistantLight;
@@ -377,7 +378,7 @@ pub fn build_light_table(
     spots: Query<&SpotLight>,
     directional: Query<AnyOf<(&DistantLight, &SunDiscLight)>>,
     environments: Query<&InfiniteLight>,
-    geometry: Res<SceneGeometry>,
+    geometry: Res<Shared<SceneGeometry>>,
     mut commands: Commands,
 ) {
     let radius = geometry.bounds_radius;
@@ -419,13 +420,13 @@ pub fn build_light_table(
             None => emitter_light.push(u32::MAX),
         }
     }
-    commands.insert_resource(LightTable::new(
+    commands.insert_resource(Shared::new(LightTable::new(
         lights,
         &power,
         selection.light_selection,
         emitter_light,
         environment,
-    ));
+    )));
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@ use crate::accel::{
     Primitives, SphereInstance, translation_only,
 };
 use crate::material::MaterialTable;
+use crate::shared::Shared;
 
 /// No emitter on this primitive.
 pub const NO_EMITTER: u32 = u32::MAX;
@@ -324,7 +325,7 @@ pub fn build_scene_geometry(
         (material.get(id as usize)).is_some_and(|&m| materials.is_null(m))
     });
     let face_normals = triangles.iter().map(face_normal).collect();
-    commands.insert_resource(SceneGeometry {
+    commands.insert_resource(Shared::new(SceneGeometry {
         accel: Arc::new(Accel::build(&primitives)),
         ids,
         triangles,
@@ -346,7 +347,7 @@ pub fn build_scene_geometry(
         emissive_shapes,
         bounds_centre,
         bounds_radius,
-    });
+    }));
 }
 
 impl SceneGeometry {

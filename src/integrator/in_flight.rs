@@ -1,0 +1,78 @@
+//! Chunks in flight: with several threads, the renderer traces as many chunks at once, each in a
+//! world of its own, so that a thread that finishes its share of one chunk's stage takes up
+//! work of another chunk rather than waiting for the stage's last task (the joins that end the
+//! stages left about 7.5 % of two threads idle, docs/speed.md, stop 35).
+//!
+//! Every chunk starts in the main world (its camera systems); its live paths then move, with
+//! their first draws, to the world that traces its bounces. The worlds share the scene's
+//! geometry and lights ([`Shared`]) and copy the small tables. The film takes the chunks'
+//! samples in chunk order whichever finishes first, so the image is the same at any number of
+//! chunks in flight and threads.
+
+use bevy_ecs::prelude::*;
+
+use super::batch::{HitBatch, PathBatch, ShadowBatch};
+use super::start_pass::FirstDrawsTable;
+use super::{Stage, StageTime};
+use crate::light::LightTable;
+use crate::material::MaterialTable;
+use crate::material::texture::TextureTable;
+use crate::settings::{RenderSettings, Techniques};
+use crate::shape::geometry::SceneGeometry;
+use crate::shared::Shared;
+
+/// The most chunks traced at once, whatever the threads: each holds its batches (a few
+/// megabytes at the default chunk size).
+pub const MAX_IN_FLIGHT: usize = 8;
+
+/// A world that traces the bounces of one chunk at a time, beside the main world.
+pub(super) struct ChunkWorld {
+    pub world: World,
+    /// Its own bounce stages (a system keeps state for the world it runs in).
+    pub bounce: Vec<Stage>,
+    /// Time and items of its stages, laid out as the main world's, when stages are timed.
+    pub times: Option<Vec<StageTime>>,
+}
+
+impl ChunkWorld {
+    /// A world with what the bounce stages read of `main` (the render's world, after its
+    /// startup systems), and batches of its own.
+    pub fn new(main: &World, bounce: Vec<Stage>) -> Self {
+        let mut world = World::new();
+        world.insert_resource(main.resource::<Shared<SceneGeometry>>().clone());
+        world.insert_resource(main.resource::<Shared<LightTable>>().clone());
+        world.insert_resource(main.resource::<MaterialTable>().clone());
+        if let Some(textures) = main.get_resource::<TextureTable>() {
+            world.insert_resource(textures.clone());
+        }
+        world.insert_resource(main.resource::<RenderSettings>().clone());
+        world.insert_resource(*main.resource::<Techniques>());
+        world.init_resource::<PathBatch>();
+        world.init_resource::<HitBatch>();
+        let shadows = main.resource::<ShadowBatch>();
+        world.insert_resource(ShadowBatch::new(
+            shadows.rays_per_path,
+            shadows.slot_per_light,
+        ));
+        let draws = main.resource::<FirstDrawsTable>().draws;
+        world.insert_resource(FirstDrawsTable::new(draws));
+        Self {
+            world,
+            bounce,
+            times: None,
+        }
+    }
+
+    /// Takes the chunk `main` has just started (its paths and their first draws), leaving this
+    /// world's emptied batch there for the next.
+    pub fn take_chunk(&mut self, main: &mut World) {
+        std::mem::swap(
+            &mut *main.resource_mut::<PathBatch>(),
+            &mut *self.world.resource_mut::<PathBatch>(),
+        );
+        std::mem::swap(
+            &mut *main.resource_mut::<FirstDrawsTable>(),
+            &mut *self.world.resource_mut::<FirstDrawsTable>(),
+        );
+    }
+}
