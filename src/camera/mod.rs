@@ -127,6 +127,7 @@ pub enum CameraStage {
 pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
     pass.configure_sets((CameraStage::Generate, CameraStage::Lens).chain());
     world.insert_resource(GeneratedRaySpace::World);
+    world.insert_resource(CameraCopies(vec![copy_component::<CameraPose>]));
     for camera in CAMERAS {
         (camera.register)(pass, world);
     }
@@ -134,7 +135,7 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
 
 /// Adds `system` to `stage` when the world has a camera component `C`, to run while it does.
 /// A lens stage makes ray generation leave its rays in camera space.
-pub fn register_for<C: Component, M>(
+pub fn register_for<C: Component + Clone, M>(
     pass: &mut Schedule,
     world: &mut World,
     stage: CameraStage,
@@ -152,6 +153,37 @@ pub fn register_for<C: Component, M>(
         if stage == CameraStage::Lens {
             world.insert_resource(GeneratedRaySpace::Camera);
         }
+        world
+            .resource_mut::<CameraCopies>()
+            .0
+            .push(copy_component::<C>);
+    }
+}
+
+/// How to copy each component of the camera entity that [`register_cameras`] found (its pose
+/// and those a camera registered systems for) to another world's camera entity.
+#[derive(Resource, Clone)]
+struct CameraCopies(Vec<fn(EntityRef, &mut EntityWorldMut)>);
+
+/// Gives `to` a camera entity with the components of `from`'s that [`register_cameras`] found,
+/// for the camera systems of a pass schedule of its own.
+pub fn copy_camera(from: &World, to: &mut World) {
+    let mut cameras = from.try_query_filtered::<Entity, With<CameraPose>>();
+    let camera = cameras.as_mut().and_then(|query| query.iter(from).next());
+    let (Some(copies), Some(camera)) = (from.get_resource::<CameraCopies>(), camera) else {
+        return;
+    };
+    let camera = from.entity(camera);
+    let mut entity = to.spawn_empty();
+    for copy in &copies.0 {
+        copy(camera, &mut entity);
+    }
+}
+
+/// Copies `camera`'s component `C` to `to`.
+fn copy_component<C: Component + Clone>(camera: EntityRef, to: &mut EntityWorldMut) {
+    if let Some(component) = camera.get::<C>() {
+        to.insert(component.clone());
     }
 }
 

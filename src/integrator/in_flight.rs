@@ -1,19 +1,20 @@
 //! Chunks in flight: with several threads, the renderer traces as many chunks at once, each in a
 //! world of its own, so that a thread that finishes its share of one chunk's stage takes up
 //! work of another chunk rather than waiting for the stage's last task (the joins that end the
-//! stages left about 7.5 % of two threads idle, docs/speed.md, stop 35).
+//! stages left about 7.5 % of two threads idle, docs/speed.md, stop 35), and a chunk's batches
+//! stay with the thread that traces it from its camera rays to its last bounce.
 //!
-//! Every chunk starts in the main world (its camera systems); its live paths then move, with
-//! their first draws, to the world that traces its bounces. The worlds share the scene's
-//! geometry and lights ([`Shared`]) and copy the small tables. The film takes the chunks'
-//! samples in chunk order whichever finishes first, so the image is the same at any number of
-//! chunks in flight and threads.
+//! The worlds share the scene's geometry and lights ([`Shared`]), copy the small tables and
+//! the camera entity, and run schedules of their own (a system keeps state for the world it
+//! runs in). The film takes the chunks' samples in chunk order whichever finishes first, so
+//! the image is the same at any number of chunks in flight and threads.
 
 use bevy_ecs::prelude::*;
 
 use super::batch::{HitBatch, PathBatch, ShadowBatch};
-use super::start_pass::FirstDrawsTable;
-use super::{Stage, StageTime};
+use super::start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex};
+use super::{Stage, StageTime, chunk_schedule};
+use crate::camera::copy_camera;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
@@ -25,20 +26,26 @@ use crate::shared::Shared;
 /// megabytes at the default chunk size).
 pub const MAX_IN_FLIGHT: usize = 8;
 
-/// A world that traces the bounces of one chunk at a time, beside the main world.
+/// A world that traces one chunk at a time, beside the main world.
 pub(super) struct ChunkWorld {
     pub world: World,
-    /// Its own bounce stages (a system keeps state for the world it runs in).
+    /// Its chunk start: fresh paths and the camera's rays.
+    pub chunk: Schedule,
+    /// Its bounce stages.
     pub bounce: Vec<Stage>,
     /// Time and items of its stages, laid out as the main world's, when stages are timed.
     pub times: Option<Vec<StageTime>>,
 }
 
 impl ChunkWorld {
-    /// A world with what the bounce stages read of `main` (the render's world, after its
-    /// startup systems), and batches of its own.
+    /// A world with what the stages read of `main` (the render's world, after its startup
+    /// systems), and batches of its own, tracing with `bounce` (made for it).
     pub fn new(main: &World, bounce: Vec<Stage>) -> Self {
         let mut world = World::new();
+        copy_camera(main, &mut world);
+        world.insert_resource(main.resource::<CameraSampling>().clone());
+        world.init_resource::<PassIndex>();
+        world.init_resource::<ChunkRange>();
         world.insert_resource(main.resource::<Shared<SceneGeometry>>().clone());
         world.insert_resource(main.resource::<Shared<LightTable>>().clone());
         world.insert_resource(main.resource::<MaterialTable>().clone());
@@ -56,23 +63,12 @@ impl ChunkWorld {
         ));
         let draws = main.resource::<FirstDrawsTable>().draws;
         world.insert_resource(FirstDrawsTable::new(draws));
+        let chunk = chunk_schedule(&mut world);
         Self {
             world,
+            chunk,
             bounce,
             times: None,
         }
-    }
-
-    /// Takes the chunk `main` has just started (its paths and their first draws), leaving this
-    /// world's emptied batch there for the next.
-    pub fn take_chunk(&mut self, main: &mut World) {
-        std::mem::swap(
-            &mut *main.resource_mut::<PathBatch>(),
-            &mut *self.world.resource_mut::<PathBatch>(),
-        );
-        std::mem::swap(
-            &mut *main.resource_mut::<FirstDrawsTable>(),
-            &mut *self.world.resource_mut::<FirstDrawsTable>(),
-        );
     }
 }

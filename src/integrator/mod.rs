@@ -13,8 +13,11 @@
 //! rather than streaming the whole image through memory at every stage; with several threads,
 //! as many chunks are traced at once, each in a world of its own ([`in_flight`]). A path's
 //! result depends only on its pixel, pass and seed, every pixel takes one sample per pass, and
-//! the film takes the chunks in order, so the image is the same whatever the chunk size and
-//! thread count.
+//! the film takes the chunks in order, so the image is the same at any thread count. The chunk
+//! size changes only the order in which a splatting filter's sums take the samples of
+//! neighbouring chunks, near a chunk's first and last rows: their last bits (8k against 16k
+//! paths: about 850 pixels of 49,152, at most 2.3e-7 relative, on dof-sky, envmap and
+//! textured).
 
 pub mod accumulate;
 pub mod batch;
@@ -53,12 +56,13 @@ use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
 /// batch state per path (twice, with the compaction's spare columns), plus its hit and shadow
-/// ray, a chunk of 16k keeps its batches within about 4 MB. Measured (docs/speed.md) from 4k to
-/// 64k on the three peer scenes: callgrind's cache simulation has 4k and 8k miss a 512 KB L2
-/// 12 % to 38 % less than 16k for the same instructions, but on a quiet machine at 2 threads
-/// 16k was faster than 8k in all six scene-rounds (more work per stage to share between the
-/// threads), and 32k no faster than 16k.
-pub const DEFAULT_CHUNK_PATHS: usize = 16 * 1024;
+/// ray, a chunk of 8k keeps its batches within about 2 MB, and a chunk in flight per thread
+/// (`in_flight.rs`) about as much per core. Measured with chunks in flight (docs/speed.md, stop
+/// 37), `foton bench --spp 64 --threads 2`, ten rounds: 8k against 16k 1.04x-1.06x on dof-sky
+/// and the furnace, 0.98x on the Cornell box; 4k slower than 8k on the furnace; at one thread
+/// 8k and 16k within 3 %. (With one chunk at a time, 16k had been faster than 8k at two
+/// threads: more work in each stage to share.)
+pub const DEFAULT_CHUNK_PATHS: usize = 8 * 1024;
 
 /// The world and the schedules that render it.
 pub struct Renderer {
@@ -188,10 +192,7 @@ impl Renderer {
         world.insert_resource(ShadowBatch::new(rays_per_path, slot_per_light));
         world.insert_resource(FirstDrawsTable::new(draws_ahead));
 
-        let mut chunk = Schedule::default();
-        register_cameras(&mut chunk, &mut world);
-        chunk.add_systems(start_pass.before(CameraStage::Generate));
-
+        let chunk = chunk_schedule(&mut world);
         let bounce = bounce_stages(settings.integrator);
         Self {
             world,
@@ -206,7 +207,8 @@ impl Renderer {
         }
     }
 
-    /// Sets the camera paths per chunk (at least 1); the image does not depend on it.
+    /// Sets the camera paths per chunk (at least 1); the image depends on it only in its last
+    /// bits (see the module's notes).
     pub fn set_chunk_paths(&mut self, paths: usize) {
         self.chunk_paths = paths.max(1);
     }
@@ -516,7 +518,7 @@ impl Renderer {
         let others = &mut self.others[..group.len() - 1];
         let mut rays = vec![0; group.len()];
         rayon::join(
-            || trace_chunks(chunk, (world, bounce, times), others, group, &mut rays),
+            || trace_chunks((world, chunk, bounce, times), others, group, &mut rays),
             || {
                 let mut time = splat_time;
                 for samples in unsplatted {
@@ -536,6 +538,14 @@ impl Renderer {
         }
         rays
     }
+}
+
+/// The chunk's start in `world`: fresh paths and the camera's rays.
+fn chunk_schedule(world: &mut World) -> Schedule {
+    let mut chunk = Schedule::default();
+    register_cameras(&mut chunk, world);
+    chunk.add_systems(start_pass.before(CameraStage::Generate));
+    chunk
 }
 
 /// The bounce stages of `integrator`: the integrator is the choice of shading stage; every
@@ -568,42 +578,52 @@ struct ChunkJob {
     count: usize,
 }
 
-/// The main world with its bounce stages and, when stages are timed, their times (the chunk
-/// start's first).
-type MainWorld<'a> = (&'a mut World, &'a mut [Stage], Option<&'a mut [StageTime]>);
+/// The main world with its chunk start and bounce stages and, when stages are timed, their
+/// times (the chunk start's first).
+type MainWorld<'a> = (
+    &'a mut World,
+    &'a mut Schedule,
+    &'a mut [Stage],
+    Option<&'a mut [StageTime]>,
+);
 
-/// Starts the chunks of `group` in the main world, one after another, moving each but the last
-/// to its world in `others`, then traces all their bounces at once; each chunk's rays into
-/// `rays`.
+/// Traces the chunks of `group` at once, each but the last in its world of `others`, the last
+/// in the main world; each chunk's rays into `rays`.
 fn trace_chunks(
-    chunk: &mut Schedule,
-    (world, bounce, mut times): MainWorld,
+    (world, chunk, bounce, times): MainWorld,
     others: &mut [ChunkWorld],
     group: &[ChunkJob],
     rays: &mut [u64],
 ) {
-    for (k, job) in group.iter().enumerate() {
-        world.resource_mut::<PassIndex>().0 = job.pass;
-        *world.resource_mut::<ChunkRange>() = ChunkRange {
-            first: job.first as u32,
-            count: job.count as u32,
-        };
-        let time = times.as_deref_mut().map(|t| &mut t[0]);
-        run_timed(chunk, world, time, job.count);
-        if let Some(other) = others.get_mut(k) {
-            other.take_chunk(world);
-        }
-    }
     let (main_rays, others_rays) = rays.split_last_mut().expect("a group has a chunk");
+    let (main_job, others_jobs) = group.split_last().expect("a group has a chunk");
     rayon::scope(|scope| {
-        for (other, rays) in others.iter_mut().zip(others_rays) {
+        for ((other, job), rays) in others.iter_mut().zip(others_jobs).zip(others_rays) {
             scope.spawn(move |_| {
-                let times = other.times.as_deref_mut();
-                *rays = trace_bounces(&mut other.bounce, &mut other.world, times);
+                let ChunkWorld {
+                    world,
+                    chunk,
+                    bounce,
+                    times,
+                } = other;
+                *rays = trace_chunk((world, chunk, bounce, times.as_deref_mut()), job);
             });
         }
-        *main_rays = trace_bounces(bounce, world, times);
+        *main_rays = trace_chunk((world, chunk, bounce, times), main_job);
     });
+}
+
+/// Starts `job`'s chunk in `world` and runs its bounces until no path lives, each stage timed
+/// into its entry of `times` when stages are timed; returns the rays traced.
+fn trace_chunk((world, chunk, bounce, mut times): MainWorld, job: &ChunkJob) -> u64 {
+    world.resource_mut::<PassIndex>().0 = job.pass;
+    *world.resource_mut::<ChunkRange>() = ChunkRange {
+        first: job.first as u32,
+        count: job.count as u32,
+    };
+    let time = times.as_deref_mut().map(|t| &mut t[0]);
+    run_timed(chunk, world, time, job.count);
+    trace_bounces(bounce, world, times)
 }
 
 /// Name of the film's splat in the stage times (it runs beside the stages, see

@@ -24,7 +24,7 @@ pub struct ChunkRange {
 }
 
 /// The pixel and lens sample patterns and the pixel filter they are warped by.
-#[derive(Resource)]
+#[derive(Resource, Clone)]
 pub struct CameraSampling {
     pub sampler: PixelSampler,
     pub filter: PixelFilter,
