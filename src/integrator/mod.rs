@@ -340,8 +340,9 @@ impl Renderer {
             })
             .unwrap_or_default();
         lines.push(format!(
-            "chunk schedule ({} paths): {}",
+            "chunk schedule ({} paths a chunk, {} in flight): {}",
             self.chunk_paths,
+            worlds_in_flight(),
             systems.join(", ")
         ));
         let stages: Vec<&str> = self.bounce.iter().map(|stage| stage.name).collect();
@@ -469,7 +470,7 @@ impl Renderer {
     /// Makes one world in flight per thread of the pool the render runs in (up to
     /// [`MAX_IN_FLIGHT`]): the main world and the others.
     fn fit_worlds_in_flight(&mut self) {
-        let others = rayon::current_num_threads().clamp(1, MAX_IN_FLIGHT) - 1;
+        let others = worlds_in_flight() - 1;
         self.others.truncate(others);
         while self.others.len() < others {
             let integrator = self.world.resource::<RenderSettings>().integrator;
@@ -538,6 +539,12 @@ impl Renderer {
         }
         rays
     }
+}
+
+/// The worlds in flight in the thread pool a render runs in: one per thread, up to
+/// [`MAX_IN_FLIGHT`].
+fn worlds_in_flight() -> usize {
+    rayon::current_num_threads().clamp(1, MAX_IN_FLIGHT)
 }
 
 /// The chunk's start in `world`: fresh paths and the camera's rays.
