@@ -408,17 +408,18 @@ impl Renderer {
             while group.len() < in_flight && next.pass < end_pass {
                 group.push(next);
                 let first = next.first + next.count;
-                next = match first == pixels {
-                    true => ChunkJob {
+                next = if first == pixels {
+                    ChunkJob {
                         pass: next.pass + 1,
                         first: 0,
                         count: chunk.min(pixels),
-                    },
-                    false => ChunkJob {
+                    }
+                } else {
+                    ChunkJob {
                         pass: next.pass,
                         first,
                         count: chunk.min(pixels - first),
-                    },
+                    }
                 };
             }
             // On a worker of the thread pool, the stages' parallel loops hand their halves to
@@ -492,13 +493,13 @@ impl Renderer {
     /// last group's samples; keeps this group's samples, in chunk order, for the next. Returns
     /// each chunk's rays.
     ///
-    /// The chunks start one after another in the main world, each but the last then moving to
-    /// a world of its own, and their bounces run at once, the threads sharing the stages'
-    /// parallel loops. The splat is one task, which another thread takes while this one starts
-    /// the chunks (it is the oldest task in this thread's queue): the film's sums take their
-    /// samples in one order, chunk after chunk, each in (bounce, slot) order, so the image is
-    /// the same at any thread count. Splatted in parallel over bands of rows instead, a sample
-    /// near a band's edge had its weights computed by both bands, and the splat scaled
+    /// Each chunk but the last is traced in a world of its own, the last in the main world, all
+    /// at once, the threads sharing the stages' parallel loops where one runs out of work. The
+    /// splat is one task, which another thread takes while this one traces its chunk (it is
+    /// the oldest task in this thread's queue), before that thread's chunk: the film's sums
+    /// take their samples in one order, chunk after chunk, each in (bounce, slot) order, so the
+    /// image is the same at any thread count. Splatted in parallel over bands of rows instead,
+    /// a sample near a band's edge had its weights computed by both bands, and the splat scaled
     /// 1.05x-1.18x from one thread to two (docs/speed.md, stop 34). On one thread the splat
     /// follows the stages.
     fn trace_group(&mut self, group: &[ChunkJob]) -> Vec<u64> {
