@@ -1,8 +1,9 @@
 //! Chunks in flight: with several threads, the renderer traces as many chunks at once, each in a
 //! world of its own, so that a thread that finishes its share of one chunk's stage takes up
 //! work of another chunk rather than waiting for the stage's last task (the joins that end the
-//! stages left about 7.5 % of two threads idle, docs/speed.md, stop 35), and a chunk's batches
-//! stay with the thread that traces it from its camera rays to its last bounce.
+//! stages left about 7.5 % of two threads idle, docs/speed.md, stop 35). Thread k traces world
+//! k's chunks, so a chunk's batches stay with the thread that traces it from its camera rays to
+//! its last bounce, and a world's from chunk to chunk.
 //!
 //! The worlds share the scene's geometry and lights ([`Shared`]), copy the small tables and
 //! the camera entity, and run schedules of their own (a system keeps state for the world it

@@ -33,6 +33,7 @@ pub mod shading;
 pub mod start_pass;
 pub mod trace;
 
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use bevy_ecs::prelude::*;
@@ -488,20 +489,19 @@ impl Renderer {
         }
     }
 
-    /// Traces the chunks of `group` (one for each world in flight, or fewer), set in turn in
-    /// [`ChunkRange`] and [`PassIndex`], through all their bounces, while the film splats the
-    /// last group's samples; keeps this group's samples, in chunk order, for the next. Returns
-    /// each chunk's rays.
+    /// Traces the chunks of `group` (one for each world in flight, or fewer), each set in its
+    /// world's [`ChunkRange`] and [`PassIndex`], through all their bounces, while the film
+    /// splats the last group's samples; keeps this group's samples, in chunk order, for the
+    /// next. Returns each chunk's rays.
     ///
-    /// Each chunk but the last is traced in a world of its own, the last in the main world, all
-    /// at once, the threads sharing the stages' parallel loops where one runs out of work. The
-    /// splat is one task, which another thread takes while this one traces its chunk (it is
-    /// the oldest task in this thread's queue), before that thread's chunk: the film's sums
-    /// take their samples in one order, chunk after chunk, each in (bounce, slot) order, so the
-    /// image is the same at any thread count. Splatted in parallel over bands of rows instead,
-    /// a sample near a band's edge had its weights computed by both bands, and the splat scaled
-    /// 1.05x-1.18x from one thread to two (docs/speed.md, stop 34). On one thread the splat
-    /// follows the stages.
+    /// Thread k of the pool traces chunk k in world k (the main world's the first), so that a
+    /// world's batches stay with one thread from group to group; the threads share the stages'
+    /// parallel loops where one runs out of work. The first thread splats before it traces, so
+    /// the film too stays with one thread: its sums take their samples in one order, chunk
+    /// after chunk, each in (bounce, slot) order, and the image is the same at any thread count.
+    /// Splatted in parallel over bands of rows instead, a sample near a band's edge had its
+    /// weights computed by both bands, and the splat scaled 1.05x-1.18x from one thread to two
+    /// (docs/speed.md, stop 34).
     fn trace_group(&mut self, group: &[ChunkJob]) -> Vec<u64> {
         let world = &mut self.world;
         // The splat's time is the last entry, the stages' the others.
@@ -515,24 +515,51 @@ impl Renderer {
         let mut film = world
             .remove_resource::<Film>()
             .expect("a renderer's world has a film");
-        let unsplatted = &self.unsplatted;
-        let (chunk, bounce) = (&mut self.chunk, &mut self.bounce);
-        let others = &mut self.others[..group.len() - 1];
         let mut rays = vec![0; group.len()];
-        rayon::join(
-            || trace_chunks((world, chunk, bounce, times), others, group, &mut rays),
-            || {
-                let mut time = splat_time;
-                for samples in unsplatted {
-                    splat_timed(&mut film, samples, time.as_deref_mut());
-                }
+        let (first_rays, others_rays) = rays.split_first_mut().expect("a group has a chunk");
+        let splat = Splat {
+            film: &mut film,
+            samples: &self.unsplatted,
+            time: splat_time,
+        };
+        let main = ChunkTask {
+            world: (world, &mut self.chunk, &mut self.bounce, times),
+            job: &group[0],
+            rays: first_rays,
+            splat: Some(splat),
+        };
+        let others = (self.others.iter_mut().zip(&group[1..]).zip(others_rays)).map(
+            |((other, job), rays)| ChunkTask {
+                world: (
+                    &mut other.world,
+                    &mut other.chunk,
+                    &mut other.bounce,
+                    other.times.as_deref_mut(),
+                ),
+                job,
+                rays,
+                splat: None,
             },
         );
+        let tasks: Vec<Mutex<Option<ChunkTask>>> = std::iter::once(main)
+            .chain(others)
+            .map(|task| Mutex::new(Some(task)))
+            .collect();
+        // Thread k of the pool takes task k: a world stays with one thread from group to group.
+        rayon::broadcast(|context| {
+            let task = tasks
+                .get(context.index())
+                .and_then(|task| task.lock().ok()?.take());
+            if let Some(task) = task {
+                task.run();
+            }
+        });
+        let world = &mut self.world;
         world.insert_resource(film);
-        // The samples in chunk order: the other worlds' chunks came first.
-        let worlds = (self.others.iter_mut().map(|other| &mut other.world))
-            .take(group.len() - 1)
-            .chain([&mut self.world]);
+        // The samples in chunk order: the main world's chunk first.
+        let worlds = std::iter::once(world)
+            .chain(self.others.iter_mut().map(|other| &mut other.world))
+            .take(group.len());
         self.unsplatted.resize_with(group.len(), Default::default);
         for ((world, job), samples) in worlds.zip(group).zip(&mut self.unsplatted) {
             (world.resource_mut::<PathBatch>()).take_finished(&mut samples.samples);
@@ -595,30 +622,35 @@ type MainWorld<'a> = (
     Option<&'a mut [StageTime]>,
 );
 
-/// Traces the chunks of `group` at once, each but the last in its world of `others`, the last
-/// in the main world; each chunk's rays into `rays`.
-fn trace_chunks(
-    (world, chunk, bounce, times): MainWorld,
-    others: &mut [ChunkWorld],
-    group: &[ChunkJob],
-    rays: &mut [u64],
-) {
-    let (main_rays, others_rays) = rays.split_last_mut().expect("a group has a chunk");
-    let (main_job, others_jobs) = group.split_last().expect("a group has a chunk");
-    rayon::scope(|scope| {
-        for ((other, job), rays) in others.iter_mut().zip(others_jobs).zip(others_rays) {
-            scope.spawn(move |_| {
-                let ChunkWorld {
-                    world,
-                    chunk,
-                    bounce,
-                    times,
-                } = other;
-                *rays = trace_chunk((world, chunk, bounce, times.as_deref_mut()), job);
-            });
+/// The film's splat of the last group's samples, in chunk order.
+struct Splat<'a> {
+    film: &'a mut Film,
+    samples: &'a [ChunkSamples],
+    time: Option<&'a mut StageTime>,
+}
+
+/// One chunk of a group and the world that traces it; the splat too for the main world's.
+struct ChunkTask<'a> {
+    world: MainWorld<'a>,
+    job: &'a ChunkJob,
+    rays: &'a mut u64,
+    splat: Option<Splat<'a>>,
+}
+
+impl ChunkTask<'_> {
+    fn run(self) {
+        if let Some(Splat {
+            film,
+            samples,
+            mut time,
+        }) = self.splat
+        {
+            for samples in samples {
+                splat_timed(film, samples, time.as_deref_mut());
+            }
         }
-        *main_rays = trace_chunk((world, chunk, bounce, times), main_job);
-    });
+        *self.rays = trace_chunk(self.world, self.job);
+    }
 }
 
 /// Starts `job`'s chunk in `world` and runs its bounces until no path lives, each stage timed
