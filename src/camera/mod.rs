@@ -134,7 +134,8 @@ pub fn register_cameras(pass: &mut Schedule, world: &mut World) {
 }
 
 /// Adds `system` to `stage` when the world has a camera component `C`, to run while it does.
-/// A lens stage makes ray generation leave its rays in camera space.
+/// A lens stage makes ray generation leave its rays in camera space. `C` is cloned into the
+/// worlds of the chunks traced at once ([`copy_camera`]).
 pub fn register_for<C: Component + Clone, M>(
     pass: &mut Schedule,
     world: &mut World,

@@ -12,9 +12,8 @@
 
 use bevy_ecs::prelude::*;
 
-use super::batch::{HitBatch, PathBatch, ShadowBatch};
-use super::start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex};
-use super::{Stage, StageTime, chunk_schedule};
+use super::start_pass::CameraSampling;
+use super::{Stage, StageTime, chunk_schedule, insert_chunk_state};
 use crate::camera::copy_camera;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
@@ -45,8 +44,6 @@ impl ChunkWorld {
         let mut world = World::new();
         copy_camera(main, &mut world);
         world.insert_resource(main.resource::<CameraSampling>().clone());
-        world.init_resource::<PassIndex>();
-        world.init_resource::<ChunkRange>();
         world.insert_resource(main.resource::<Shared<SceneGeometry>>().clone());
         world.insert_resource(main.resource::<Shared<LightTable>>().clone());
         world.insert_resource(main.resource::<MaterialTable>().clone());
@@ -55,15 +52,7 @@ impl ChunkWorld {
         }
         world.insert_resource(main.resource::<RenderSettings>().clone());
         world.insert_resource(*main.resource::<Techniques>());
-        world.init_resource::<PathBatch>();
-        world.init_resource::<HitBatch>();
-        let shadows = main.resource::<ShadowBatch>();
-        world.insert_resource(ShadowBatch::new(
-            shadows.rays_per_path,
-            shadows.slot_per_light,
-        ));
-        let draws = main.resource::<FirstDrawsTable>().draws;
-        world.insert_resource(FirstDrawsTable::new(draws));
+        insert_chunk_state(&mut world);
         let chunk = chunk_schedule(&mut world);
         Self {
             world,

@@ -176,23 +176,7 @@ impl Renderer {
         startup.run(&mut world);
 
         let settings = world.resource::<RenderSettings>().clone();
-        world.init_resource::<PassIndex>();
-        world.init_resource::<ChunkRange>();
-        world.init_resource::<PathBatch>();
-        world.init_resource::<HitBatch>();
-        // The path tracer: one ray to a light drawn at random, and all its first vertex's
-        // padded draws computed ahead; the ray caster: one ray per light, and its BSDF choice.
-        let (rays_per_path, slot_per_light, draws_ahead) = match settings.integrator {
-            IntegratorKind::PathTracer => (1, false, PADDED_DRAWS),
-            IntegratorKind::RayCaster => (
-                shadow_rays_per_path(world.resource::<Shared<LightTable>>()),
-                true,
-                shade_raycast::DRAWS_AHEAD,
-            ),
-        };
-        world.insert_resource(ShadowBatch::new(rays_per_path, slot_per_light));
-        world.insert_resource(FirstDrawsTable::new(draws_ahead));
-
+        insert_chunk_state(&mut world);
         let chunk = chunk_schedule(&mut world);
         let bounce = bounce_stages(settings.integrator);
         Self {
@@ -573,6 +557,28 @@ impl Renderer {
 /// [`MAX_IN_FLIGHT`].
 fn worlds_in_flight() -> usize {
     rayon::current_num_threads().clamp(1, MAX_IN_FLIGHT)
+}
+
+/// Gives `world` (holding the settings and the light table) the state of a chunk in flight:
+/// which pass and pixels, and its batches.
+fn insert_chunk_state(world: &mut World) {
+    world.init_resource::<PassIndex>();
+    world.init_resource::<ChunkRange>();
+    world.init_resource::<PathBatch>();
+    world.init_resource::<HitBatch>();
+    // The path tracer: one ray to a light drawn at random, and all its first vertex's padded
+    // draws computed ahead; the ray caster: one ray per light, and its BSDF choice.
+    let (rays_per_path, slot_per_light, draws_ahead) =
+        match world.resource::<RenderSettings>().integrator {
+            IntegratorKind::PathTracer => (1, false, PADDED_DRAWS),
+            IntegratorKind::RayCaster => (
+                shadow_rays_per_path(world.resource::<Shared<LightTable>>()),
+                true,
+                shade_raycast::DRAWS_AHEAD,
+            ),
+        };
+    world.insert_resource(ShadowBatch::new(rays_per_path, slot_per_light));
+    world.insert_resource(FirstDrawsTable::new(draws_ahead));
 }
 
 /// The chunk's start in `world`: fresh paths and the camera's rays.
