@@ -13,7 +13,7 @@
 use bevy_ecs::prelude::*;
 
 use super::start_pass::CameraSampling;
-use super::{Stage, StageTime, chunk_schedule, insert_chunk_state};
+use super::{Stage, StageTime, WorldStages, bounce_stages, chunk_schedule, insert_chunk_state};
 use crate::camera::copy_camera;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
@@ -39,8 +39,8 @@ pub(super) struct ChunkWorld {
 
 impl ChunkWorld {
     /// A world with what the stages read of `main` (the render's world, after its startup
-    /// systems), and batches of its own, tracing with `bounce` (made for it).
-    pub fn new(main: &World, bounce: Vec<Stage>) -> Self {
+    /// systems), batches and schedules of its own.
+    pub fn new(main: &World) -> Self {
         let mut world = World::new();
         copy_camera(main, &mut world);
         world.insert_resource(main.resource::<CameraSampling>().clone());
@@ -54,11 +54,22 @@ impl ChunkWorld {
         world.insert_resource(*main.resource::<Techniques>());
         insert_chunk_state(&mut world);
         let chunk = chunk_schedule(&mut world);
+        let bounce = bounce_stages(world.resource::<RenderSettings>().integrator);
         Self {
             world,
             chunk,
             bounce,
             times: None,
         }
+    }
+
+    /// The world with its schedules and stage times, as a chunk is traced.
+    pub fn stages(&mut self) -> WorldStages<'_> {
+        (
+            &mut self.world,
+            &mut self.chunk,
+            &mut self.bounce,
+            self.times.as_deref_mut(),
+        )
     }
 }

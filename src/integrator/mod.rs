@@ -200,20 +200,10 @@ impl Renderer {
 
     /// Times every stage of the renders that follow (see [`Renderer::stage_times`]).
     pub fn time_stages(&mut self) {
-        let names = std::iter::once("start_pass + camera")
-            .chain(self.bounce.iter().map(|s| s.name))
-            .chain([SPLAT_STAGE]);
-        let times: Vec<StageTime> = names
-            .map(|name| StageTime {
-                name,
-                time: Duration::ZERO,
-                items: 0,
-            })
-            .collect();
         for other in &mut self.others {
-            other.times = Some(times.clone());
+            other.times = Some(empty_stage_times(&self.bounce));
         }
-        self.stage_times = Some(times);
+        self.stage_times = Some(empty_stage_times(&self.bounce));
     }
 
     /// Time and items per stage so far, if [`Renderer::time_stages`] was called: summed over
@@ -437,12 +427,9 @@ impl Renderer {
                 }
             }
         }
-        let world = &mut self.world;
-        let mut film = world.resource_mut::<Film>();
-        let mut time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
-        for samples in &self.unsplatted {
-            splat_timed(&mut film, samples, time.as_deref_mut());
-        }
+        let time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
+        let mut film = self.world.resource_mut::<Film>();
+        splat_timed(&mut film, &self.unsplatted, time);
         self.unsplatted.clear();
         RenderStats {
             passes,
@@ -459,16 +446,10 @@ impl Renderer {
         let others = worlds_in_flight() - 1;
         self.others.truncate(others);
         while self.others.len() < others {
-            let integrator = self.world.resource::<RenderSettings>().integrator;
-            let mut other = ChunkWorld::new(&self.world, bounce_stages(integrator));
-            other.times = (self.stage_times.as_ref()).map(|times| {
-                let zero = |time: &StageTime| StageTime {
-                    time: Duration::ZERO,
-                    items: 0,
-                    ..time.clone()
-                };
-                times.iter().map(zero).collect()
-            });
+            let mut other = ChunkWorld::new(&self.world);
+            if self.stage_times.is_some() {
+                other.times = Some(empty_stage_times(&self.bounce));
+            }
             self.others.push(other);
         }
     }
@@ -514,12 +495,7 @@ impl Renderer {
         };
         let others = (self.others.iter_mut().zip(&group[1..]).zip(others_rays)).map(
             |((other, job), rays)| ChunkTask {
-                world: (
-                    &mut other.world,
-                    &mut other.chunk,
-                    &mut other.bounce,
-                    other.times.as_deref_mut(),
-                ),
+                world: other.stages(),
                 job,
                 rays,
                 splat: None,
@@ -619,9 +595,9 @@ struct ChunkJob {
     count: usize,
 }
 
-/// The main world with its chunk start and bounce stages and, when stages are timed, their
-/// times (the chunk start's first).
-type MainWorld<'a> = (
+/// A world with its chunk start and bounce stages and, when stages are timed, their times (the
+/// chunk start's first).
+type WorldStages<'a> = (
     &'a mut World,
     &'a mut Schedule,
     &'a mut [Stage],
@@ -637,7 +613,7 @@ struct Splat<'a> {
 
 /// One chunk of a group and the world that traces it; the splat too for the main world's.
 struct ChunkTask<'a> {
-    world: MainWorld<'a>,
+    world: WorldStages<'a>,
     job: &'a ChunkJob,
     rays: &'a mut u64,
     splat: Option<Splat<'a>>,
@@ -648,12 +624,10 @@ impl ChunkTask<'_> {
         if let Some(Splat {
             film,
             samples,
-            mut time,
+            time,
         }) = self.splat
         {
-            for samples in samples {
-                splat_timed(film, samples, time.as_deref_mut());
-            }
+            splat_timed(film, samples, time);
         }
         *self.rays = trace_chunk(self.world, self.job);
     }
@@ -661,7 +635,7 @@ impl ChunkTask<'_> {
 
 /// Starts `job`'s chunk in `world` and runs its bounces until no path lives, each stage timed
 /// into its entry of `times` when stages are timed; returns the rays traced.
-fn trace_chunk((world, chunk, bounce, mut times): MainWorld, job: &ChunkJob) -> u64 {
+fn trace_chunk((world, chunk, bounce, mut times): WorldStages, job: &ChunkJob) -> u64 {
     world.resource_mut::<PassIndex>().0 = job.pass;
     *world.resource_mut::<ChunkRange>() = ChunkRange {
         first: job.first as u32,
@@ -670,6 +644,20 @@ fn trace_chunk((world, chunk, bounce, mut times): MainWorld, job: &ChunkJob) -> 
     let time = times.as_deref_mut().map(|t| &mut t[0]);
     run_timed(chunk, world, time, job.count);
     trace_bounces(bounce, world, times)
+}
+
+/// A world's stage times before any render: the chunk start, the `bounce` stages, the splat.
+fn empty_stage_times(bounce: &[Stage]) -> Vec<StageTime> {
+    let names = std::iter::once("start_pass + camera")
+        .chain(bounce.iter().map(|s| s.name))
+        .chain([SPLAT_STAGE]);
+    names
+        .map(|name| StageTime {
+            name,
+            time: Duration::ZERO,
+            items: 0,
+        })
+        .collect()
 }
 
 /// Name of the film's splat in the stage times (it runs beside the stages, see
@@ -683,20 +671,21 @@ struct ChunkSamples {
     pass: u32,
 }
 
-/// Splats a chunk's samples on `film`, adding the time taken to `time` when stages are timed.
-fn splat_timed(
-    film: &mut Film,
-    ChunkSamples { samples, pass }: &ChunkSamples,
-    time: Option<&mut StageTime>,
-) {
+/// Splats the samples of `chunks` on `film`, chunk after chunk, adding the time taken to `time`
+/// when stages are timed.
+fn splat_timed(film: &mut Film, chunks: &[ChunkSamples], time: Option<&mut StageTime>) {
     let start = Instant::now();
-    if !samples.samples().is_empty() {
-        film.begin_pass(*pass);
-        film.add_samples(samples.samples());
+    let mut items = 0;
+    for ChunkSamples { samples, pass } in chunks {
+        if !samples.samples().is_empty() {
+            film.begin_pass(*pass);
+            film.add_samples(samples.samples());
+        }
+        items += samples.samples().len() as u64;
     }
     if let Some(time) = time {
         time.time += start.elapsed();
-        time.items += samples.samples().len() as u64;
+        time.items += items;
     }
 }
 
