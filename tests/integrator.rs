@@ -100,8 +100,7 @@ fn chunks_per_pass_do_not_change_the_image() {
 
 /// Progress comes after every chunk, and a render stopped within a pass keeps the samples of
 /// its finished chunks (those pixels have one sample more) and says the pass is incomplete. On
-/// 2 threads the stop comes after the second chunk of a pair traced at once; on 3, after the
-/// first of three, whose other two, traced too, are dropped.
+/// 2 and 3 threads, the chunks the other threads traced past the stop are dropped.
 #[test]
 fn a_render_stops_within_a_pass_and_keeps_its_chunks() {
     for threads in [2, 3] {

@@ -1,20 +1,36 @@
 //! Chunks in flight: with several threads, the renderer traces as many chunks at once, each in a
-//! world of its own, so that a thread that finishes its share of one chunk's stage takes up
-//! work of another chunk rather than waiting for the stage's last task (the joins that end the
-//! stages left about 7.5 % of two threads idle, docs/speed.md, stop 35). Thread k traces world
-//! k's chunks, so a chunk's batches stay with the thread that traces it from its camera rays to
-//! its last bounce, and a world's from chunk to chunk.
+//! world of its own on a thread of its own. Thread k traces in world k, taking the next chunk
+//! of the render as soon as it is done with its last, so a chunk's batches stay with one core
+//! from its camera rays to its last bounce, and the threads meet only where the film takes the
+//! chunks' samples, in chunk order. A thread left without chunks at the render's end shares the
+//! stages' parallel loops of the chunks still in flight.
+//!
+//! Before (stop 37), the chunks went in groups, one per world, each group ending when its
+//! slowest chunk did, and the threads shared each other's stages in between, so the stages'
+//! batches crossed between the cores. Measured at stop 38 (docs/speed.md), two threads gained
+//! 4-8 % in the machine's fast stretches and much more in its slow ones.
 //!
 //! The worlds share the scene's geometry and lights ([`Shared`]), copy the small tables and
 //! the camera entity, and run schedules of their own (a system keeps state for the world it
 //! runs in). The film takes the chunks' samples in chunk order whichever finishes first, so
 //! the image is the same at any number of chunks in flight and threads.
 
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
 use bevy_ecs::prelude::*;
 
+use super::batch::{FinishedSamples, PathBatch};
 use super::start_pass::CameraSampling;
-use super::{Stage, StageTime, WorldStages, bounce_stages, chunk_schedule, insert_chunk_state};
+use super::{
+    Progress, RenderStats, Stage, StageTime, WorldStages, bounce_stages, chunk_schedule,
+    insert_chunk_state, trace_chunk,
+};
 use crate::camera::copy_camera;
+use crate::film::Film;
 use crate::light::LightTable;
 use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
@@ -72,4 +88,199 @@ impl ChunkWorld {
             self.times.as_deref_mut(),
         )
     }
+}
+
+/// A chunk of a pass: its pixels `first..first + count`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ChunkJob {
+    pub pass: u32,
+    pub first: usize,
+    pub count: usize,
+}
+
+/// A render's passes cut into chunks of consecutive pixels, numbered pass after pass: the
+/// order in which the film takes them.
+pub(super) struct ChunkPlan {
+    pixels: usize,
+    chunk: usize,
+    passes: Range<u32>,
+    chunks_per_pass: usize,
+}
+
+impl ChunkPlan {
+    /// The passes `passes` of `pixels` paths each, in chunks of `chunk_paths` (the last of a
+    /// pass shorter).
+    pub fn new(pixels: usize, chunk_paths: usize, passes: Range<u32>) -> Self {
+        let chunk = chunk_paths.clamp(1, pixels.max(1));
+        Self {
+            pixels,
+            chunk,
+            chunks_per_pass: pixels.div_ceil(chunk),
+            passes,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.passes.len() * self.chunks_per_pass
+    }
+
+    fn job(&self, index: usize) -> ChunkJob {
+        let first = index % self.chunks_per_pass * self.chunk;
+        ChunkJob {
+            pass: self.passes.start + (index / self.chunks_per_pass) as u32,
+            first,
+            count: self.chunk.min(self.pixels - first),
+        }
+    }
+}
+
+/// Where the chunks' results go, in chunk order: the film, and the caller's progress, which
+/// may stop the render.
+pub(super) struct Intake<'a, P> {
+    pub film: Film,
+    /// The splat's time, when stages are timed.
+    pub splat_time: Option<&'a mut StageTime>,
+    /// The render's start and time limit, checked at the end of each pass.
+    pub time_limit: Option<(Instant, Duration)>,
+    pub on_progress: P,
+}
+
+/// Traces `plan`'s chunks in `worlds` (the main world's first), world k on thread k of the
+/// pool, each taking the next chunk when done with its last; `intake` takes them in order.
+/// Returns the film and what went into it (elapsed time left at zero).
+pub(super) fn trace_in_flight<P: FnMut(Progress) -> bool + Send>(
+    plan: &ChunkPlan,
+    worlds: Vec<WorldStages>,
+    intake: Intake<P>,
+) -> (Film, RenderStats) {
+    let worlds: Vec<Mutex<Option<WorldStages>>> =
+        worlds.into_iter().map(|w| Mutex::new(Some(w))).collect();
+    let film_order = Mutex::new(FilmOrder {
+        stats: RenderStats {
+            passes: plan.passes.start,
+            paths: 0,
+            complete_passes: true,
+            rays: 0,
+            elapsed: Duration::ZERO,
+        },
+        next: 0,
+        stopped: false,
+        intake,
+    });
+    let waiting = Mutex::new(Waiting::default());
+    let next_chunk = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    rayon::broadcast(|context| {
+        let world = (worlds.get(context.index())).and_then(|world| world.lock().ok()?.take());
+        let Some(mut world) = world else { return };
+        while !stop.load(Ordering::Relaxed) {
+            let index = next_chunk.fetch_add(1, Ordering::Relaxed);
+            if index >= plan.len() {
+                break;
+            }
+            let job = plan.job(index);
+            let rays = trace_chunk(&mut world, &job);
+            let mut samples = lock(&waiting).spares.pop().unwrap_or_default();
+            (world.0.resource_mut::<PathBatch>()).take_finished(&mut samples);
+            let done = TracedChunk { samples, job, rays };
+            lock(&waiting).chunks.insert(index, done);
+            if give_in_order(plan, &film_order, &waiting) {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+    });
+    let order = film_order.into_inner().expect("no panic holds the lock");
+    (order.intake.film, order.stats)
+}
+
+/// A traced chunk: its job, film samples and rays.
+struct TracedChunk {
+    samples: FinishedSamples,
+    job: ChunkJob,
+    rays: u64,
+}
+
+/// Chunks traced and waiting for the film to reach them, and sample buffers to reuse.
+#[derive(Default)]
+struct Waiting {
+    /// By chunk index.
+    chunks: BTreeMap<usize, TracedChunk>,
+    spares: Vec<FinishedSamples>,
+}
+
+/// The film's side: the next chunk it takes, and what the chunks taken did.
+struct FilmOrder<'a, P> {
+    stats: RenderStats,
+    next: usize,
+    /// Whether the render stopped: the later chunks are dropped.
+    stopped: bool,
+    intake: Intake<'a, P>,
+}
+
+impl<P: FnMut(Progress) -> bool> FilmOrder<'_, P> {
+    /// Splats `chunk` (the next in order) and tells the progress; returns whether to stop.
+    fn take(&mut self, plan: &ChunkPlan, chunk: &TracedChunk) -> bool {
+        let intake = &mut self.intake;
+        let timer = Instant::now();
+        let samples = chunk.samples.samples();
+        if !samples.is_empty() {
+            intake.film.begin_pass(chunk.job.pass);
+            intake.film.add_samples(samples);
+        }
+        if let Some(time) = intake.splat_time.as_deref_mut() {
+            time.time += timer.elapsed();
+            time.items += samples.len() as u64;
+        }
+        self.next += 1;
+        let stats = &mut self.stats;
+        stats.rays += chunk.rays;
+        stats.paths += chunk.job.count as u64;
+        let pass_done = chunk.job.first + chunk.job.count == plan.pixels;
+        stats.passes += u32::from(pass_done);
+        let pixels = plan.pixels as u64;
+        let go_on = (intake.on_progress)(Progress {
+            paths_done: u64::from(plan.passes.start) * pixels + stats.paths,
+            paths_total: u64::from(plan.passes.end) * pixels,
+            passes_done: stats.passes,
+        });
+        stats.complete_passes = go_on || pass_done;
+        let time_up =
+            pass_done && (intake.time_limit).is_some_and(|(start, limit)| start.elapsed() >= limit);
+        self.stopped = !go_on || time_up;
+        self.stopped
+    }
+}
+
+/// Gives the film the waiting chunks that are next in order, unless another thread is doing
+/// so: a thread that finds the film busy leaves its chunk to the thread at the film, which
+/// looks again for the next chunk once it has let go. Returns whether the render stopped.
+fn give_in_order<P: FnMut(Progress) -> bool>(
+    plan: &ChunkPlan,
+    film_order: &Mutex<FilmOrder<P>>,
+    waiting: &Mutex<Waiting>,
+) -> bool {
+    loop {
+        let Ok(mut order) = film_order.try_lock() else {
+            return false;
+        };
+        while !order.stopped {
+            let next = order.next;
+            let Some(chunk) = lock(waiting).chunks.remove(&next) else {
+                break;
+            };
+            order.take(plan, &chunk);
+            let mut samples = chunk.samples;
+            samples.clear();
+            lock(waiting).spares.push(samples);
+        }
+        let (next, stopped) = (order.next, order.stopped);
+        drop(order);
+        if stopped || !lock(waiting).chunks.contains_key(&next) {
+            return stopped;
+        }
+    }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().expect("no panic holds the lock")
 }

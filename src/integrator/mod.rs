@@ -33,7 +33,6 @@ pub mod shading;
 pub mod start_pass;
 pub mod trace;
 
-use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use bevy_ecs::prelude::*;
@@ -48,8 +47,8 @@ use crate::settings::{IntegratorKind, RenderSettings, Techniques};
 use crate::shape::geometry::{SceneGeometry, build_scene_geometry};
 use crate::shared::Shared;
 use accumulate::{gather_unoccluded_light, retire_finished_paths};
-use batch::{FinishedSamples, HitBatch, PathBatch, ShadowBatch};
-use in_flight::{ChunkWorld, MAX_IN_FLIGHT};
+use batch::{HitBatch, PathBatch, ShadowBatch};
+use in_flight::{ChunkJob, ChunkPlan, ChunkWorld, Intake, MAX_IN_FLIGHT, trace_in_flight};
 use shade_path::shade_path_vertices;
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
 use start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, start_pass};
@@ -82,9 +81,6 @@ pub struct Renderer {
     passes_done: u32,
     /// The pass rendering stops before (`--passes A..B`: B); all of them when `None`.
     end_pass: Option<u32>,
-    /// The film samples of the chunks last traced, in chunk order: splatted beside the next
-    /// chunks' stages, or when the render returns.
-    unsplatted: Vec<ChunkSamples>,
 }
 
 /// A bounce stage: one system in a schedule of its own, so it can be timed on its own.
@@ -188,7 +184,6 @@ impl Renderer {
             stage_times: None,
             passes_done: 0,
             end_pass: None,
-            unsplatted: Default::default(),
         }
     }
 
@@ -355,89 +350,48 @@ impl Renderer {
     /// pass) are reached, or until `on_progress`, told after each chunk how far the render is,
     /// returns false.
     ///
-    /// The chunks are traced in groups, one chunk per world in flight (see
-    /// [`in_flight`](self::in_flight)). A group may run past the chunk after which the render
-    /// stops: its later chunks' samples are dropped, so the film holds what a render one chunk
-    /// at a time would hold.
-    pub fn render(&mut self, mut on_progress: impl FnMut(Progress) -> bool) -> RenderStats {
+    /// Each world in flight takes the next chunk as soon as it is done with its last, on a
+    /// thread of its own, and the film takes the chunks in order (see
+    /// [`in_flight`](self::in_flight)). Chunks traced past the one after which the render
+    /// stops are dropped, so the film holds what a render one chunk at a time would hold.
+    pub fn render(&mut self, on_progress: impl FnMut(Progress) -> bool + Send) -> RenderStats {
         self.fit_worlds_in_flight();
         let settings = self.world.resource::<RenderSettings>().clone();
-        let pixels = settings.path_count();
-        let chunk = self.chunk_paths.min(pixels.max(1));
-        let end_pass = self.end_pass();
-        let paths_total = u64::from(end_pass) * pixels as u64;
+        let plan = ChunkPlan::new(
+            settings.path_count(),
+            self.chunk_paths,
+            self.passes_done..self.end_pass(),
+        );
         let start = Instant::now();
-        let (mut rays, mut paths) = (0u64, 0u64);
-        let mut passes = self.passes_done;
-        let resumed_paths = u64::from(passes) * pixels as u64;
-        let mut complete_passes = true;
-        // The next chunk to trace.
-        let mut next = ChunkJob {
-            pass: passes,
-            first: 0,
-            count: chunk.min(pixels),
+        // The splat's time is the last entry, the stages' the others.
+        let (splat_time, times) = match self.stage_times.as_deref_mut() {
+            Some(times) => times
+                .split_last_mut()
+                .map(|(last, rest)| (Some(last), Some(rest))),
+            None => None,
+        }
+        .unwrap_or((None, None));
+        let film = (self.world)
+            .remove_resource::<Film>()
+            .expect("a renderer's world has a film");
+        let main = (
+            &mut self.world,
+            &mut self.chunk,
+            &mut self.bounce[..],
+            times,
+        );
+        let worlds = std::iter::once(main).chain(self.others.iter_mut().map(ChunkWorld::stages));
+        let intake = Intake {
+            film,
+            splat_time,
+            time_limit: settings.time_limit.map(|limit| (start, limit)),
+            on_progress,
         };
-        let in_flight = 1 + self.others.len();
-        'groups: while next.pass < end_pass && pixels > 0 {
-            let mut group = Vec::with_capacity(in_flight);
-            while group.len() < in_flight && next.pass < end_pass {
-                group.push(next);
-                let first = next.first + next.count;
-                next = if first == pixels {
-                    ChunkJob {
-                        pass: next.pass + 1,
-                        first: 0,
-                        count: chunk.min(pixels),
-                    }
-                } else {
-                    ChunkJob {
-                        pass: next.pass,
-                        first,
-                        count: chunk.min(pixels - first),
-                    }
-                };
-            }
-            // On a worker of the thread pool, the stages' parallel loops hand their halves to
-            // the other workers directly; from outside it, each loop would be injected into
-            // the pool and this thread put to sleep until it ends (two wake-ups per loop,
-            // about ten loops per bounce).
-            let group_rays = rayon::scope(|_| self.trace_group(&group));
-            for (k, (job, job_rays)) in group.iter().zip(group_rays).enumerate() {
-                rays += job_rays;
-                paths += job.count as u64;
-                let pass_done = job.first + job.count == pixels;
-                passes += u32::from(pass_done);
-                self.passes_done = passes;
-                let progress = Progress {
-                    paths_done: resumed_paths + paths,
-                    paths_total,
-                    passes_done: passes,
-                };
-                let stop = !on_progress(progress);
-                if stop {
-                    complete_passes = pass_done;
-                }
-                let time_up = pass_done
-                    && settings
-                        .time_limit
-                        .is_some_and(|limit| start.elapsed() >= limit);
-                if stop || time_up {
-                    self.unsplatted.truncate(k + 1);
-                    break 'groups;
-                }
-            }
-        }
-        let time = (self.stage_times.as_deref_mut()).and_then(|times| times.last_mut());
-        let mut film = self.world.resource_mut::<Film>();
-        splat_timed(&mut film, &self.unsplatted, time);
-        self.unsplatted.clear();
-        RenderStats {
-            passes,
-            paths,
-            complete_passes,
-            rays,
-            elapsed: start.elapsed(),
-        }
+        let (film, mut stats) = trace_in_flight(&plan, worlds.collect(), intake);
+        self.world.insert_resource(film);
+        self.passes_done = stats.passes;
+        stats.elapsed = start.elapsed();
+        stats
     }
 
     /// Makes one world in flight per thread of the pool the render runs in (up to
@@ -452,80 +406,6 @@ impl Renderer {
             }
             self.others.push(other);
         }
-    }
-
-    /// Traces the chunks of `group` (one for each world in flight, or fewer), each set in its
-    /// world's [`ChunkRange`] and [`PassIndex`], through all their bounces, while the film
-    /// splats the last group's samples; keeps this group's samples, in chunk order, for the
-    /// next. Returns each chunk's rays.
-    ///
-    /// Thread k of the pool traces chunk k in world k (the main world's the first), so that a
-    /// world's batches stay with one thread from group to group; the threads share the stages'
-    /// parallel loops where one runs out of work. The first thread splats before it traces, so
-    /// the film too stays with one thread: its sums take their samples in one order, chunk
-    /// after chunk, each in (bounce, slot) order, and the image is the same at any thread count.
-    /// Splatted in parallel over bands of rows instead, a sample near a band's edge had its
-    /// weights computed by both bands, and the splat scaled 1.05x-1.18x from one thread to two
-    /// (docs/speed.md, stop 34).
-    fn trace_group(&mut self, group: &[ChunkJob]) -> Vec<u64> {
-        let world = &mut self.world;
-        // The splat's time is the last entry, the stages' the others.
-        let (splat_time, times) = match self.stage_times.as_deref_mut() {
-            Some(times) => times
-                .split_last_mut()
-                .map(|(last, rest)| (Some(last), Some(rest))),
-            None => None,
-        }
-        .unwrap_or((None, None));
-        let mut film = world
-            .remove_resource::<Film>()
-            .expect("a renderer's world has a film");
-        let mut rays = vec![0; group.len()];
-        let (first_rays, others_rays) = rays.split_first_mut().expect("a group has a chunk");
-        let splat = Splat {
-            film: &mut film,
-            samples: &self.unsplatted,
-            time: splat_time,
-        };
-        let main = ChunkTask {
-            world: (world, &mut self.chunk, &mut self.bounce, times),
-            job: &group[0],
-            rays: first_rays,
-            splat: Some(splat),
-        };
-        let others = (self.others.iter_mut().zip(&group[1..]).zip(others_rays)).map(
-            |((other, job), rays)| ChunkTask {
-                world: other.stages(),
-                job,
-                rays,
-                splat: None,
-            },
-        );
-        let tasks: Vec<Mutex<Option<ChunkTask>>> = std::iter::once(main)
-            .chain(others)
-            .map(|task| Mutex::new(Some(task)))
-            .collect();
-        // Thread k of the pool takes task k: a world stays with one thread from group to group.
-        rayon::broadcast(|context| {
-            let task = tasks
-                .get(context.index())
-                .and_then(|task| task.lock().ok()?.take());
-            if let Some(task) = task {
-                task.run();
-            }
-        });
-        let world = &mut self.world;
-        world.insert_resource(film);
-        // The samples in chunk order: the main world's chunk first.
-        let worlds = std::iter::once(world)
-            .chain(self.others.iter_mut().map(|other| &mut other.world))
-            .take(group.len());
-        self.unsplatted.resize_with(group.len(), Default::default);
-        for ((world, job), samples) in worlds.zip(group).zip(&mut self.unsplatted) {
-            (world.resource_mut::<PathBatch>()).take_finished(&mut samples.samples);
-            samples.pass = job.pass;
-        }
-        rays
     }
 }
 
@@ -587,14 +467,6 @@ fn bounce_stages(integrator: IntegratorKind) -> Vec<Stage> {
     ]
 }
 
-/// A chunk of a pass: its pixels `first..first + count`.
-#[derive(Clone, Copy, Debug)]
-struct ChunkJob {
-    pass: u32,
-    first: usize,
-    count: usize,
-}
-
 /// A world with its chunk start and bounce stages and, when stages are timed, their times (the
 /// chunk start's first).
 type WorldStages<'a> = (
@@ -604,38 +476,9 @@ type WorldStages<'a> = (
     Option<&'a mut [StageTime]>,
 );
 
-/// The film's splat of the last group's samples, in chunk order.
-struct Splat<'a> {
-    film: &'a mut Film,
-    samples: &'a [ChunkSamples],
-    time: Option<&'a mut StageTime>,
-}
-
-/// One chunk of a group and the world that traces it; the splat too for the main world's.
-struct ChunkTask<'a> {
-    world: WorldStages<'a>,
-    job: &'a ChunkJob,
-    rays: &'a mut u64,
-    splat: Option<Splat<'a>>,
-}
-
-impl ChunkTask<'_> {
-    fn run(self) {
-        if let Some(Splat {
-            film,
-            samples,
-            time,
-        }) = self.splat
-        {
-            splat_timed(film, samples, time);
-        }
-        *self.rays = trace_chunk(self.world, self.job);
-    }
-}
-
 /// Starts `job`'s chunk in `world` and runs its bounces until no path lives, each stage timed
 /// into its entry of `times` when stages are timed; returns the rays traced.
-fn trace_chunk((world, chunk, bounce, mut times): WorldStages, job: &ChunkJob) -> u64 {
+fn trace_chunk((world, chunk, bounce, times): &mut WorldStages, job: &ChunkJob) -> u64 {
     world.resource_mut::<PassIndex>().0 = job.pass;
     *world.resource_mut::<ChunkRange>() = ChunkRange {
         first: job.first as u32,
@@ -643,7 +486,7 @@ fn trace_chunk((world, chunk, bounce, mut times): WorldStages, job: &ChunkJob) -
     };
     let time = times.as_deref_mut().map(|t| &mut t[0]);
     run_timed(chunk, world, time, job.count);
-    trace_bounces(bounce, world, times)
+    trace_bounces(bounce, world, times.as_deref_mut())
 }
 
 /// A world's stage times before any render: the chunk start, the `bounce` stages, the splat.
@@ -660,34 +503,9 @@ fn empty_stage_times(bounce: &[Stage]) -> Vec<StageTime> {
         .collect()
 }
 
-/// Name of the film's splat in the stage times (it runs beside the stages, see
-/// [`Renderer::trace_group`]).
+/// Name of the film's splat in the stage times (it runs beside other worlds' stages, see
+/// [`in_flight`]).
 const SPLAT_STAGE: &str = "film splat (beside them)";
-
-/// A chunk's film samples and the pass they belong to.
-#[derive(Default)]
-struct ChunkSamples {
-    samples: FinishedSamples,
-    pass: u32,
-}
-
-/// Splats the samples of `chunks` on `film`, chunk after chunk, adding the time taken to `time`
-/// when stages are timed.
-fn splat_timed(film: &mut Film, chunks: &[ChunkSamples], time: Option<&mut StageTime>) {
-    let start = Instant::now();
-    let mut items = 0;
-    for ChunkSamples { samples, pass } in chunks {
-        if !samples.samples().is_empty() {
-            film.begin_pass(*pass);
-            film.add_samples(samples.samples());
-        }
-        items += samples.samples().len() as u64;
-    }
-    if let Some(time) = time {
-        time.time += start.elapsed();
-        time.items += items;
-    }
-}
 
 /// Runs the bounces of the chunk started in `world` until no path lives, each stage timed into
 /// its entry of `times` (after the chunk start's) when stages are timed; returns the rays traced.
