@@ -1,14 +1,15 @@
 //! Chunks in flight: with several threads, the renderer traces as many chunks at once, each in a
 //! world of its own on a thread of its own. Thread k traces in world k, taking the next chunk
 //! of the render as soon as it is done with its last, so a chunk's batches stay with one core
-//! from its camera rays to its last bounce, and the threads meet only where the film takes the
-//! chunks' samples, in chunk order. A thread left without chunks at the render's end shares the
-//! stages' parallel loops of the chunks still in flight.
+//! from its camera rays to its last bounce; a thread left without chunks at the render's end
+//! shares the stages' parallel loops of the chunks still in flight. The threads meet only where
+//! a traced chunk waits for the film: the first thread gives the film the waiting chunks, in
+//! chunk order, after each of its own, so the film too stays with one core.
 //!
 //! Before (stop 37), the chunks went in groups, one per world, each group ending when its
 //! slowest chunk did, and the threads shared each other's stages in between, so the stages'
-//! batches crossed between the cores. Measured at stop 38 (docs/speed.md), two threads gained
-//! 4-8 % in the machine's fast stretches and much more in its slow ones.
+//! batches crossed between the cores (docs/speed.md, stop 38: two threads 1.91x-1.99x one
+//! against 1.70x-1.93x).
 //!
 //! The worlds share the scene's geometry and lights ([`Shared`]), copy the small tables and
 //! the camera entity, and run schedules of their own (a system keeps state for the world it
@@ -173,6 +174,8 @@ pub(super) fn trace_in_flight<P: FnMut(Progress) -> bool + Send>(
     rayon::broadcast(|context| {
         let world = (worlds.get(context.index())).and_then(|world| world.lock().ok()?.take());
         let Some(mut world) = world else { return };
+        // The first thread gives the film its chunks: the film stays with one core.
+        let gives = context.index() == 0;
         while !stop.load(Ordering::Relaxed) {
             let index = next_chunk.fetch_add(1, Ordering::Relaxed);
             if index >= plan.len() {
@@ -184,12 +187,14 @@ pub(super) fn trace_in_flight<P: FnMut(Progress) -> bool + Send>(
             (world.0.resource_mut::<PathBatch>()).take_finished(&mut samples);
             let done = TracedChunk { samples, job, rays };
             lock(&waiting).chunks.insert(index, done);
-            if give_in_order(plan, &film_order, &waiting) {
+            if gives && give_in_order(plan, &mut lock(&film_order), &waiting) {
                 stop.store(true, Ordering::Relaxed);
             }
         }
     });
-    let order = film_order.into_inner().expect("no panic holds the lock");
+    let mut order = film_order.into_inner().expect("no panic holds the lock");
+    // The chunks the other threads finished after the first thread's last.
+    give_in_order(plan, &mut order, &waiting);
     (order.intake.film, order.stats)
 }
 
@@ -218,8 +223,8 @@ struct FilmOrder<'a, P> {
 }
 
 impl<P: FnMut(Progress) -> bool> FilmOrder<'_, P> {
-    /// Splats `chunk` (the next in order) and tells the progress; returns whether to stop.
-    fn take(&mut self, plan: &ChunkPlan, chunk: &TracedChunk) -> bool {
+    /// Splats `chunk` (the next in order) and tells the progress, which may stop the render.
+    fn take(&mut self, plan: &ChunkPlan, chunk: &TracedChunk) {
         let intake = &mut self.intake;
         let timer = Instant::now();
         let samples = chunk.samples.samples();
@@ -247,38 +252,26 @@ impl<P: FnMut(Progress) -> bool> FilmOrder<'_, P> {
         let time_up =
             pass_done && (intake.time_limit).is_some_and(|(start, limit)| start.elapsed() >= limit);
         self.stopped = !go_on || time_up;
-        self.stopped
     }
 }
 
-/// Gives the film the waiting chunks that are next in order, unless another thread is doing
-/// so: a thread that finds the film busy leaves its chunk to the thread at the film, which
-/// looks again for the next chunk once it has let go. Returns whether the render stopped.
+/// Gives the film the waiting chunks that are next in order; returns whether the render
+/// stopped.
 fn give_in_order<P: FnMut(Progress) -> bool>(
     plan: &ChunkPlan,
-    film_order: &Mutex<FilmOrder<P>>,
+    order: &mut FilmOrder<P>,
     waiting: &Mutex<Waiting>,
 ) -> bool {
-    loop {
-        let Ok(mut order) = film_order.try_lock() else {
-            return false;
+    while !order.stopped {
+        let Some(chunk) = lock(waiting).chunks.remove(&order.next) else {
+            break;
         };
-        while !order.stopped {
-            let next = order.next;
-            let Some(chunk) = lock(waiting).chunks.remove(&next) else {
-                break;
-            };
-            order.take(plan, &chunk);
-            let mut samples = chunk.samples;
-            samples.clear();
-            lock(waiting).spares.push(samples);
-        }
-        let (next, stopped) = (order.next, order.stopped);
-        drop(order);
-        if stopped || !lock(waiting).chunks.contains_key(&next) {
-            return stopped;
-        }
+        order.take(plan, &chunk);
+        let mut samples = chunk.samples;
+        samples.clear();
+        lock(waiting).spares.push(samples);
     }
+    order.stopped
 }
 
 fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
