@@ -477,8 +477,8 @@ impl Film {
 
     /// Adds `samples` as [`Film::add_sample`] would one after the other, in their order: every
     /// pixel sums its contributions in the order the samples come, so the sums depend only on
-    /// that order. On one thread: the renderer runs a chunk's splat beside the next chunk's first
-    /// stages (see `Renderer::trace_chunk`), which is where its parallelism lies.
+    /// that order. On one thread: the renderer splats a chunk while other threads trace other
+    /// chunks (see `integrator::in_flight`), which is where its parallelism lies.
     pub fn add_samples(&mut self, samples: &[FilmSample]) {
         let n = self.counts.len();
         let splat = self.splat.as_ref();
