@@ -277,3 +277,74 @@ fn give_in_order<P: FnMut(Progress) -> bool>(
 fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     mutex.lock().expect("no panic holds the lock")
 }
+
+#[cfg(test)]
+mod tests {
+    use std::cell::RefCell;
+
+    use super::*;
+
+    /// A pass of 10 pixels in chunks of 4 is three chunks (4, 4, 2), numbered pass after pass.
+    #[test]
+    fn a_plan_numbers_its_chunks_pass_after_pass() {
+        let plan = ChunkPlan::new(10, 4, 1..3);
+        let jobs: Vec<_> = (0..plan.len())
+            .map(|index| plan.job(index))
+            .map(|job| (job.pass, job.first, job.count))
+            .collect();
+        let pass = |p| [(p, 0, 4), (p, 4, 4), (p, 8, 2)];
+        assert_eq!(jobs, [pass(1), pass(2)].concat());
+        assert_eq!(ChunkPlan::new(10, 64, 0..1).len(), 1);
+        assert_eq!(ChunkPlan::new(0, 64, 0..4).len(), 0);
+    }
+
+    /// The film takes the chunks in chunk order whatever order they are traced in, and once
+    /// the progress says stop, takes no later chunk.
+    #[test]
+    fn the_film_takes_chunks_in_order_and_none_after_a_stop() {
+        let plan = ChunkPlan::new(10, 4, 1..3);
+        let told = RefCell::new(Vec::new());
+        let mut order = FilmOrder {
+            stats: RenderStats {
+                passes: 1,
+                paths: 0,
+                complete_passes: true,
+                rays: 0,
+                elapsed: Duration::ZERO,
+            },
+            next: 0,
+            stopped: false,
+            intake: Intake {
+                film: Film::new(10, 1),
+                splat_time: None,
+                time_limit: None,
+                // Stops after the pass's second chunk (18 paths done, counting pass 0's).
+                on_progress: |progress: Progress| {
+                    told.borrow_mut().push(progress.paths_done);
+                    progress.paths_done < 18
+                },
+            },
+        };
+        let waiting = Mutex::new(Waiting::default());
+        let arrive = |index: usize| {
+            let chunk = TracedChunk {
+                samples: FinishedSamples::default(),
+                job: plan.job(index),
+                rays: 1 << index,
+            };
+            lock(&waiting).chunks.insert(index, chunk);
+        };
+        arrive(2);
+        arrive(1);
+        assert!(!give_in_order(&plan, &mut order, &waiting));
+        assert!(told.borrow().is_empty(), "chunk 0 is not there yet");
+        arrive(0);
+        assert!(give_in_order(&plan, &mut order, &waiting));
+        arrive(3);
+        assert!(give_in_order(&plan, &mut order, &waiting));
+        assert_eq!(*told.borrow(), [14, 18]);
+        let stats = order.stats;
+        assert_eq!((stats.passes, stats.paths, stats.rays), (1, 8, 0b11));
+        assert!(!stats.complete_passes);
+    }
+}
