@@ -205,7 +205,7 @@ pub fn render_until_stopped(
     let start = Instant::now();
     let time_up = || settings.time_limit.is_some_and(|l| start.elapsed() >= l);
     let mut last_save = Instant::now();
-    let mut total: Option<RenderStats> = None;
+    let mut total = RenderStats::empty(0);
     let stop = loop {
         let stats = renderer.render(|progress| {
             bar.set_length(progress.paths_total);
@@ -217,17 +217,10 @@ pub fn render_until_stopped(
                     && !time_up()
                     && checkpoint.is_none_or(|c| last_save.elapsed() < c))
         });
-        let sum = total.get_or_insert(RenderStats {
-            passes: 0,
-            paths: 0,
-            complete_passes: true,
-            rays: 0,
-            elapsed: Duration::ZERO,
-        });
-        sum.passes = stats.passes;
-        sum.paths += stats.paths;
-        sum.rays += stats.rays;
-        sum.elapsed += stats.elapsed;
+        total.passes = stats.passes;
+        total.paths += stats.paths;
+        total.rays += stats.rays;
+        total.elapsed += stats.elapsed;
         if stats.passes >= renderer.end_pass() {
             break Stop::Done;
         } else if interrupt::requested() {
@@ -239,16 +232,7 @@ pub fn render_until_stopped(
         last_save = Instant::now();
     };
     bar.finish_and_clear();
-    Ok((
-        total.unwrap_or(RenderStats {
-            passes: 0,
-            paths: 0,
-            complete_passes: true,
-            rays: 0,
-            elapsed: Duration::ZERO,
-        }),
-        stop,
-    ))
+    Ok((total, stop))
 }
 
 /// Renders without checkpoints (for `bench`).

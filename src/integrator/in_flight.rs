@@ -8,8 +8,8 @@
 //!
 //! Before (stop 37), the chunks went in groups, one per world, each group ending when its
 //! slowest chunk did, and the threads shared each other's stages in between, so the stages'
-//! batches crossed between the cores (docs/speed.md, stop 38: two threads 1.91x-1.99x one
-//! against 1.70x-1.93x).
+//! batches crossed between the cores (docs/speed.md, stop 38: two threads 1.93x-1.95x one
+//! against 1.79x-1.89x in the same rounds).
 //!
 //! The worlds share the scene's geometry and lights ([`Shared`]), copy the small tables and
 //! the camera entity, and run schedules of their own (a system keeps state for the world it
@@ -156,18 +156,7 @@ pub(super) fn trace_in_flight<P: FnMut(Progress) -> bool + Send>(
 ) -> (Film, RenderStats) {
     let worlds: Vec<Mutex<Option<WorldStages>>> =
         worlds.into_iter().map(|w| Mutex::new(Some(w))).collect();
-    let film_order = Mutex::new(FilmOrder {
-        stats: RenderStats {
-            passes: plan.passes.start,
-            paths: 0,
-            complete_passes: true,
-            rays: 0,
-            elapsed: Duration::ZERO,
-        },
-        next: 0,
-        stopped: false,
-        intake,
-    });
+    let film_order = Mutex::new(FilmOrder::new(plan, intake));
     let waiting = Mutex::new(Waiting::default());
     let next_chunk = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
@@ -222,7 +211,17 @@ struct FilmOrder<'a, P> {
     intake: Intake<'a, P>,
 }
 
-impl<P: FnMut(Progress) -> bool> FilmOrder<'_, P> {
+impl<'a, P: FnMut(Progress) -> bool> FilmOrder<'a, P> {
+    /// Before `plan`'s first chunk.
+    fn new(plan: &ChunkPlan, intake: Intake<'a, P>) -> Self {
+        Self {
+            stats: RenderStats::empty(plan.passes.start),
+            next: 0,
+            stopped: false,
+            intake,
+        }
+    }
+
     /// Splats `chunk` (the next in order) and tells the progress, which may stop the render.
     fn take(&mut self, plan: &ChunkPlan, chunk: &TracedChunk) {
         let intake = &mut self.intake;
@@ -304,27 +303,17 @@ mod tests {
     fn the_film_takes_chunks_in_order_and_none_after_a_stop() {
         let plan = ChunkPlan::new(10, 4, 1..3);
         let told = RefCell::new(Vec::new());
-        let mut order = FilmOrder {
-            stats: RenderStats {
-                passes: 1,
-                paths: 0,
-                complete_passes: true,
-                rays: 0,
-                elapsed: Duration::ZERO,
-            },
-            next: 0,
-            stopped: false,
-            intake: Intake {
-                film: Film::new(10, 1),
-                splat_time: None,
-                time_limit: None,
-                // Stops after the pass's second chunk (18 paths done, counting pass 0's).
-                on_progress: |progress: Progress| {
-                    told.borrow_mut().push(progress.paths_done);
-                    progress.paths_done < 18
-                },
+        let intake = Intake {
+            film: Film::new(10, 1),
+            splat_time: None,
+            time_limit: None,
+            // Stops after the pass's second chunk (18 paths done, counting pass 0's).
+            on_progress: |progress: Progress| {
+                told.borrow_mut().push(progress.paths_done);
+                progress.paths_done < 18
             },
         };
+        let mut order = FilmOrder::new(&plan, intake);
         let waiting = Mutex::new(Waiting::default());
         let arrive = |index: usize| {
             let chunk = TracedChunk {

@@ -5,7 +5,7 @@
 //! chunk:    start_pass → camera (generate → lens → to world)
 //! bounce:   trace_closest_hits → shade (path or raycast) → trace_shadow_rays
 //!           → gather_unoccluded_light → retire_finished_paths   (repeated while paths live)
-//! film:     the chunks' samples splatted in chunk order, beside the next chunks' stages
+//! film:     the chunks' samples splatted in chunk order, beside other chunks' stages
 //! ```
 //!
 //! A pass (one sample per pixel) runs as chunks of consecutive pixels, each traced through all
@@ -150,6 +150,17 @@ pub struct RenderStats {
 }
 
 impl RenderStats {
+    /// What a render has done before it traces anything, its film holding `passes` passes.
+    pub fn empty(passes: u32) -> Self {
+        Self {
+            passes,
+            paths: 0,
+            complete_passes: true,
+            rays: 0,
+            elapsed: Duration::ZERO,
+        }
+    }
+
     pub fn paths_per_second(&self) -> f64 {
         self.paths as f64 / self.elapsed.as_secs_f64().max(1e-9)
     }
