@@ -218,6 +218,7 @@ pub fn render_until_stopped(
                     && checkpoint.is_none_or(|c| last_save.elapsed() < c))
         });
         total.passes = stats.passes;
+        total.complete_passes = stats.complete_passes;
         total.paths += stats.paths;
         total.rays += stats.rays;
         total.elapsed += stats.elapsed;

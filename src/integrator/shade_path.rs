@@ -133,9 +133,8 @@ fn shade_vertex<'a>(
         path.add_radiance(*path.throughput * area.radiance() * weight);
     }
 
-    let choice = path.rng.next_f32();
     let mut built = None;
-    let Some(bsdf) = scene.bsdf_at(&mut surface, choice, &mut built) else {
+    let Some(bsdf) = scene.bsdf_at(&mut surface, &mut path.rng, &mut built) else {
         path.pass_through(&surface);
         return None;
     };
@@ -159,8 +158,10 @@ fn shade_vertex<'a>(
         return None;
     }
     if let Some(glass) = bsdf.smooth_glass() {
-        // A delta BSDF: no light sample; the lobe sample and the direction's, unused.
-        let (u, _) = (path.rng.next_f32(), path.rng.next_2d());
+        // A delta BSDF: no light sample; the lobe's draw picks reflection or refraction, the
+        // direction's is counted, not made.
+        let u = path.rng.next_f32();
+        path.rng.skip();
         queues.glass.push(
             slot,
             GlassVertex {
@@ -221,7 +222,8 @@ fn shade_scattering(
     // Next-event estimation: one light, chosen by power.
     let mut shadow = None;
     if !bsdf.is_delta() {
-        let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
+        let u_choose = path.rng.next_f32_if(lights.has_choice());
+        let u_light = path.rng.next_2d();
         if let Some((index, probability)) = lights.choose(u_choose, surface.position) {
             shadow = lights.lights[index]
                 .sample_for_mis(surface.position, u_light)
@@ -294,7 +296,8 @@ fn queued_surface(surface: &SurfacePoint, wo: Vec3, path: &PathSlots) -> QueuedS
 }
 
 /// A queued vertex's random numbers and light sample, drawn in the order the scalar path draws
-/// them (light choice, light point, lobe, direction), for the lanes that finish it; a
+/// them (light choice, light point, lobe, direction; the choice where there is none to make,
+/// and the lobe, which neither BSDF reads, counted and not made), for the lanes that finish it; a
 /// rectangle lamp sampled by area is left for the kernel to sample, eight vertices at once, and
 /// an environment map for the group's sample of it.
 /// `reflectance`: the Lambertian's, or the factor on a conductor's lobe.
@@ -307,7 +310,8 @@ fn queued_vertex<'a>(
     path: &mut PathSlots,
 ) -> DiffuseVertex<'a> {
     let lights = scene.lights;
-    let (u_choose, u_light) = (path.rng.next_f32(), path.rng.next_2d());
+    let u_choose = path.rng.next_f32_if(lights.has_choice());
+    let u_light = path.rng.next_2d();
     let light = match lights.choose(u_choose, surface.position) {
         None => VertexLight::None,
         Some((index, probability)) => {
@@ -338,7 +342,8 @@ fn queued_vertex<'a>(
             }
         }
     };
-    let (_u_lobe, u_direction) = (path.rng.next_f32(), path.rng.next_2d());
+    path.rng.skip();
+    let u_direction = path.rng.next_2d();
     DiffuseVertex {
         surface: queued_surface(surface, wo, path),
         reflectance,

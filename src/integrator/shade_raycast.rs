@@ -156,9 +156,8 @@ fn shade_hit(
     {
         path.add_radiance(*path.throughput * area.radiance());
     }
-    let choice = path.rng.next_f32();
     let mut built = None;
-    let Some(bsdf) = scene.bsdf_at(&mut surface, choice, &mut built) else {
+    let Some(bsdf) = scene.bsdf_at(&mut surface, &mut path.rng, &mut built) else {
         path.pass_through(&surface);
         return None;
     };

@@ -81,7 +81,9 @@ pub struct Scene<'a> {
 
 impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
-    /// `choice` in [0, 1) picks the side of each mix. A bump map on the way bends the surface's
+    /// a draw of the path's `rng` picks the side of each mix (at a material that is the same
+    /// everywhere, and so has no mix, the draw is counted but not made: about a hash a vertex).
+    /// A bump map on the way bends the surface's
     /// shading normal (the one hook for bump mapping). A material's BSDF that is the same
     /// everywhere is lent from the table: no shading point to fill, no copy; any other is
     /// built into `built` and lent from there (a `Cow` in its place copied its 120 bytes,
@@ -89,15 +91,17 @@ impl Scene<'_> {
     /// codegen units once left it) it took 3 % more of the Cornell box's instructions, and
     /// the hint `#[inline]` did not bring it back.
     #[inline(always)]
-    pub fn bsdf_at<'s>(
+    pub fn bsdf_at<'s, const AHEAD: u32>(
         &'s self,
         surface: &mut SurfacePoint,
-        choice: f32,
+        rng: &mut PathDraws<AHEAD>,
         built: &'s mut Option<Bsdf>,
     ) -> Option<&'s Bsdf> {
         if let Some(bsdf) = self.materials.fixed_bsdf(surface.material) {
+            rng.skip();
             return Some(bsdf);
         }
+        let choice = rng.next_f32();
         let mut point = ShadingPoint {
             p: surface.position,
             uv: surface.uv,

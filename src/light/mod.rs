@@ -215,10 +215,17 @@ impl LightTable {
     /// instructions a vertex on the Cornell box).
     #[inline(always)]
     pub fn choose(&self, u: f32, p: Vec3) -> Option<(usize, f32)> {
-        if self.selectable.len() <= 1 {
+        if !self.has_choice() {
             return self.sole_choice;
         }
         self.choose_among(u, p)
+    }
+
+    /// Whether [`LightTable::choose`] reads its `u`: there are two or more lights to choose
+    /// from (a caller may then skip drawing it).
+    #[inline(always)]
+    pub fn has_choice(&self) -> bool {
+        self.selectable.len() > 1
     }
 
     #[inline(never)]

@@ -222,6 +222,25 @@ impl<'a, const AHEAD: u32> PathDraws<'a, AHEAD> {
         .then_some(draw)
     }
 
+    /// Counts the next draw without making it: for a value nobody would read (the material's
+    /// choice at a material that has none), so that the later draws keep their numbers.
+    #[inline(always)]
+    pub fn skip(&mut self) {
+        self.rng.skip_draw();
+    }
+
+    /// [`PathDraws::next_f32`] where `needed`, else the draw counted but not made ([`PathDraws::skip`])
+    /// and 0 in its place.
+    #[inline(always)]
+    pub fn next_f32_if(&mut self, needed: bool) -> f32 {
+        if needed {
+            self.next_f32()
+        } else {
+            self.skip();
+            0.0
+        }
+    }
+
     /// [`PathRng::next_f32`].
     #[inline(always)]
     pub fn next_f32(&mut self) -> f32 {
