@@ -37,12 +37,15 @@ use std::time::{Duration, Instant};
 
 use bevy_ecs::prelude::*;
 
+use crate::bsdf::Bsdf;
 use crate::camera::{CameraStage, register_cameras};
 use crate::film::{Film, PixelFilter, Reconstruction};
 use crate::light::{LightTable, build_light_table};
 use crate::material::MaterialTable;
 use crate::material::texture::TextureTable;
-use crate::sampling::PADDED_DRAWS;
+use crate::sampling::{
+    LIGHT_CHOICE_DRAW, LIGHT_POINT_DRAW, LOBE_DRAW, MATERIAL_CHOICE_DRAW, PADDED_DRAWS,
+};
 use crate::settings::{IntegratorKind, RenderSettings, Techniques};
 use crate::shape::geometry::{SceneGeometry, build_scene_geometry};
 use crate::shared::Shared;
@@ -445,7 +448,26 @@ fn insert_chunk_state(world: &mut World) {
             ),
         };
     world.insert_resource(ShadowBatch::new(rays_per_path, slot_per_light));
-    world.insert_resource(FirstDrawsTable::new(draws_ahead));
+    let unused = unused_first_draws(world.resource(), world.resource::<Shared<LightTable>>());
+    world.insert_resource(FirstDrawsTable::new(draws_ahead, unused));
+}
+
+/// The first draws whose values nothing in the scene uses (see `sampling::FirstDraws`): the
+/// material's choice where no material mixes; where every path's first surface scatters it
+/// with a light sample (a delta BSDF draws its lobe and direction in the light's places, and a
+/// null surface leaves them to the next one), the light's choice where there is one light or
+/// none, the point on a light where there is none to sample, and the lobe where every BSDF is
+/// Lambertian or a GGX conductor (the queued kinds, which have one).
+fn unused_first_draws(materials: &MaterialTable, lights: &LightTable) -> u32 {
+    let draw = |unused: bool, draw: u32| u32::from(unused) << draw;
+    let alike = materials.every_bsdf(|bsdf| !bsdf.is_delta());
+    let one_lobe = materials.every_bsdf(|bsdf| {
+        matches!(bsdf, Bsdf::Lambertian { .. }) || bsdf.isotropic_ggx_conductor().is_some()
+    });
+    draw(!materials.has_mix(), MATERIAL_CHOICE_DRAW)
+        | draw(alike && !lights.has_choice(), LIGHT_CHOICE_DRAW)
+        | draw(alike && !lights.can_choose(), LIGHT_POINT_DRAW)
+        | draw(one_lobe, LOBE_DRAW)
 }
 
 /// The chunk's start in `world`: fresh paths and the camera's rays.
@@ -567,5 +589,99 @@ fn run_timed(
             time.items += items as u64;
         }
         None => schedule.run(world),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::{Path, PathBuf};
+
+    use glam::Vec3;
+
+    use super::*;
+    use crate::scene::build::{RenderOptions, build_world};
+
+    /// `scene` (a path under the repository's root, or absolute) rendered at 40 x 30, 2 spp, on
+    /// one thread, with the first draws its scene leaves out, or with every one computed; and
+    /// the set of those computed.
+    fn render_small(scene: &Path, every_draw: bool) -> (Vec<Vec3>, u32) {
+        let desc = crate::scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join(scene))
+            .expect("the scene loads");
+        let options = RenderOptions {
+            samples_per_pixel: Some(2),
+            resolution: Some((40, 30)),
+            ..RenderOptions::default()
+        };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+        pool.expect("a thread pool").install(|| {
+            let mut renderer = Renderer::new(build_world(desc, &options).0);
+            let mut table = renderer.world.resource_mut::<FirstDrawsTable>();
+            if every_draw {
+                table.computed = (1 << PADDED_DRAWS) - 1;
+            }
+            let computed = table.computed;
+            renderer.render(|_| true);
+            (renderer.image(), computed)
+        })
+    }
+
+    /// A furnace (a unit sphere under a uniform sky) whose sphere's material is `material`
+    /// (LuxRender's directives, which may name materials made before), written to a
+    /// temporary file named after `name`.
+    fn furnace_of(name: &str, material: &str) -> PathBuf {
+        let path = std::env::temp_dir().join(format!("foton-{name}-{}.lxs", std::process::id()));
+        let scene = format!(
+            "LookAt 0 -4 0  0 0 0  0 0 1\nCamera \"perspective\" \"float fov\" [30]\n\
+             WorldBegin\nLightSource \"infinite\" \"color L\" [1 1 1]\n{material}\n\
+             Shape \"sphere\" \"float radius\" [1]\nWorldEnd\n"
+        );
+        std::fs::write(&path, scene).expect("a temporary file");
+        path
+    }
+
+    /// The first draws a scene leaves uncomputed go unused: its image is the same to the bit
+    /// with every first draw computed. The scenes make their first draws in each way: a matte
+    /// sphere under a sky (all but the direction left out), matte walls lit through a null
+    /// lamp, metal and glass (cornell.lxs), a thin lens, glass and a sky (dof-sky.lxs), lights
+    /// to choose among (many-lights.lxs), a mix of two mattes and a shiny metal (written here:
+    /// two lobes). Each fails with the mix's choice, a glass or null surface's lobe, or the
+    /// metal's, taken for a draw nothing uses (checked).
+    #[test]
+    fn first_draws_left_out_go_unused() {
+        let mix = furnace_of(
+            "mix",
+            "MakeNamedMaterial \"white\" \"string type\" [\"matte\"] \"color Kd\" [0.5 0.5 0.5]\n\
+             MakeNamedMaterial \"red\" \"string type\" [\"matte\"] \"color Kd\" [0.8 0.1 0.1]\n\
+             MakeNamedMaterial \"both\" \"string type\" [\"mix\"] \"string namedmaterial1\" \
+             [\"white\"] \"string namedmaterial2\" [\"red\"] \"float amount\" [0.5]\n\
+             NamedMaterial \"both\"",
+        );
+        let shiny = furnace_of(
+            "shiny",
+            "Material \"shinymetal\" \"color Kr\" [0.5 0.5 0.5] \"color Ks\" [0.5 0.5 0.5] \
+             \"float uroughness\" [0.1] \"float vroughness\" [0.1]",
+        );
+        let scenes: [PathBuf; 6] = [
+            "scenes/furnace.lxs".into(),
+            "scenes/cornell.lxs".into(),
+            "scenes/dof-sky.lxs".into(),
+            "scenes/many-lights.lxs".into(),
+            mix.clone(),
+            shiny.clone(),
+        ];
+        let mut computed = Vec::new();
+        for scene in &scenes {
+            let (image, draws) = render_small(scene, false);
+            assert!(image == render_small(scene, true).0, "{}", scene.display());
+            computed.push(draws);
+        }
+        std::fs::remove_file(&mix).ok();
+        std::fs::remove_file(&shiny).ok();
+        // Left out: all but the furnace's direction, the material's choice in the box, none
+        // with a mix, the lights' draws but not the lobe of a shiny metal.
+        assert_eq!(
+            (computed[0], computed[1], computed[4], computed[5]),
+            (0b10000, 0b11110, 0b11111, 0b11000)
+        );
     }
 }

@@ -36,19 +36,24 @@ pub struct CameraSampling {
 /// no padded draw.
 #[derive(Resource)]
 pub struct FirstDrawsTable {
-    /// How many of a path's first draws are computed (1 to [`PADDED_DRAWS`]): those its
-    /// integrator's first vertex makes for every path (see `Renderer::new`); the others are
-    /// made where drawn.
+    /// How many of a path's first draws are read from the table (1 to [`PADDED_DRAWS`]): those
+    /// its integrator's first vertex makes for every path (see `insert_chunk_state`); the
+    /// others are made where drawn.
     pub draws: u32,
+    /// Those of them that are computed (bit `d` for draw `d`): the others' values go unused in
+    /// the scene (see `sampling::FirstDraws::compute`).
+    pub computed: u32,
     pub rows: Vec<FirstDraws>,
 }
 
 impl FirstDrawsTable {
-    /// An empty table for paths whose first `draws` draws are to be computed ahead.
-    pub fn new(draws: u32) -> Self {
+    /// An empty table for paths whose first `draws` draws are read from it, those in `unused`
+    /// (a set of draws) left uncomputed.
+    pub fn new(draws: u32, unused: u32) -> Self {
         assert!((1..=PADDED_DRAWS).contains(&draws), "{draws} first draws");
         Self {
             draws,
+            computed: ((1 << draws) - 1) & !unused,
             rows: Vec::new(),
         }
     }
@@ -81,7 +86,7 @@ pub fn start_pass(
     let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
-    let draws_ahead = first_draws.draws;
+    let draws_ahead = first_draws.computed;
     first_draws
         .rows
         .resize(chunk.count as usize, FirstDraws::default());

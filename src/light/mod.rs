@@ -228,6 +228,11 @@ impl LightTable {
         self.selectable.len() > 1
     }
 
+    /// Whether [`LightTable::choose`] can pick a light: there is one to sample.
+    pub fn can_choose(&self) -> bool {
+        !self.selectable.is_empty()
+    }
+
     #[inline(never)]
     fn choose_among(&self, u: f32, p: Vec3) -> Option<(usize, f32)> {
         if let Some(by_position) = &self.by_position {

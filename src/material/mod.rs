@@ -249,6 +249,17 @@ impl MaterialTable {
         Self { materials, fixed }
     }
 
+    /// Whether any material is a mix: the only reader of `bsdf_at`'s `choice`.
+    pub fn has_mix(&self) -> bool {
+        (self.materials.iter()).any(|m| matches!(m, Material::Mix { .. }))
+    }
+
+    /// Whether every material has a BSDF that is the same everywhere (no null material among
+    /// them) and `holds` for it.
+    pub fn every_bsdf(&self, holds: impl Fn(&Bsdf) -> bool) -> bool {
+        (self.fixed.iter()).all(|bsdf| bsdf.as_ref().is_some_and(&holds))
+    }
+
     /// Whether any material reads a texture (the geometry then keeps uvs): a bump map, a mix
     /// of textured amount, or a scattering material whose BSDF is not constant.
     pub fn uses_textures(&self) -> bool {

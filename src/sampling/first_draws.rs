@@ -10,7 +10,10 @@
 //! computed; a path whose first vertex passed through a null surface and makes them later,
 //! after the batch was compacted; a 2D draw where a 1D one was computed) is computed as
 //! before. Every value is a pure function of (pixel key, sample index, draw), so the table's
-//! values are bit for bit the scalar ones.
+//! values are bit for bit the scalar ones. A draw whose value nothing in the scene uses (the
+//! material's choice where no material mixes, the light's choice or point where there is no
+//! choice or no light to sample, the lobe where no BSDF has two) is left out: a reader may read its stale value, or count the
+//! draw without reading it ([`PathDraws::skip`]), but never uses it.
 //!
 //! A 1D draw is the first coordinate of the 2D draw of the same number (both scramble the
 //! shuffled index's radical inverse with the same seed), so a 2D draw's x serves a 1D request.
@@ -23,6 +26,12 @@ use super::sobol::{owen_scramble_reversed, second_dimension_reversed};
 
 /// The first vertex's draws that are 2D (the light's point, the BSDF's direction).
 const IS_2D: [bool; PADDED_DRAWS as usize] = [false, false, true, false, true];
+
+/// The first vertex's draws by number.
+pub const MATERIAL_CHOICE_DRAW: u32 = 0;
+pub const LIGHT_CHOICE_DRAW: u32 = 1;
+pub const LIGHT_POINT_DRAW: u32 = 2;
+pub const LOBE_DRAW: u32 = 3;
 
 /// Where a 2D draw's y is in [`FirstDraws::values`], after its x: draw `d`'s value (a 2D
 /// draw's x) is at `d`, its y at `d + Y_AFTER_X`, past the five draws' (draw 2's at 5, draw
@@ -50,9 +59,10 @@ const LANES: usize = 16;
 impl FirstDraws {
     /// The padded draws of `paths`, all at their first draw and of one pass (made by one
     /// [`PassStreams`](super::PassStreams)), into `first` (as long): [`LANES`] paths at a time,
-    /// the last group's missing lanes repeating its last path and dropped. At least the first
-    /// `draws` of them (1 to [`PADDED_DRAWS`]): the first alone if `draws` is 1, else all; a
-    /// [`PathDraws`] that reads no more than `draws` reads no other value.
+    /// the last group's missing lanes repeating its last path and dropped. Those in `draws`
+    /// (bit `d` for draw `d`; at least the draws below [`PADDED_DRAWS`] set there): a
+    /// [`PathDraws`] that uses the value of no other draw reads no other value (it may read
+    /// one, stale, that it then leaves unused).
     pub fn compute(paths: &[PathRng], first: &mut [FirstDraws], draws: u32) {
         let mut groups = paths.chunks_exact(LANES);
         let mut outputs = first.chunks_exact_mut(LANES);
@@ -69,9 +79,10 @@ impl FirstDraws {
         }
     }
 
-    /// The first `draws` padded draws of [`LANES`] paths of one pass, computed lane by lane,
-    /// each draw's values into an array of its own (a column of the paths' rows) before they
-    /// are stored path by path (the first draw's alone where it is the only one).
+    /// The padded draws in `draws` (a set, as [`FirstDraws::compute`]'s) of [`LANES`] paths of
+    /// one pass, computed lane by lane, each draw's values into an array of its own (a column
+    /// of the paths' rows) before they are stored path by path (the first draw's alone where
+    /// no other is computed).
     #[inline(always)]
     fn lanes(paths: &[PathRng; LANES], first: &mut [Self; LANES], draws: u32) {
         let mut keys = [0u64; LANES];
@@ -85,20 +96,31 @@ impl FirstDraws {
                 .all(|path| path.index_reversed() == index_reversed)
         );
         let mut columns = [[0f32; LANES]; ROW];
-        padded_sobol_lanes::<0>(keys, index_reversed, &mut columns);
         for (first, path) in first.iter_mut().zip(paths) {
             first.stream_key = path.counter_key();
         }
-        if draws == 1 {
+        let computes = |draw: u32| draws >> draw & 1 == 1;
+        if computes(0) {
+            padded_sobol_lanes::<0>(keys, index_reversed, &mut columns);
+        }
+        if draws >> 1 == 0 {
             for (first, &value) in first.iter_mut().zip(&columns[0]) {
                 first.values[0] = value;
             }
             return;
         }
-        padded_sobol_lanes::<1>(keys, index_reversed, &mut columns);
-        padded_sobol_lanes::<2>(keys, index_reversed, &mut columns);
-        padded_sobol_lanes::<3>(keys, index_reversed, &mut columns);
-        padded_sobol_lanes::<4>(keys, index_reversed, &mut columns);
+        if computes(1) {
+            padded_sobol_lanes::<1>(keys, index_reversed, &mut columns);
+        }
+        if computes(2) {
+            padded_sobol_lanes::<2>(keys, index_reversed, &mut columns);
+        }
+        if computes(3) {
+            padded_sobol_lanes::<3>(keys, index_reversed, &mut columns);
+        }
+        if computes(4) {
+            padded_sobol_lanes::<4>(keys, index_reversed, &mut columns);
+        }
         for (eighth, first) in first.chunks_exact_mut(8).enumerate() {
             store_rows(&columns, 8 * eighth, first.try_into().unwrap());
         }
@@ -272,6 +294,9 @@ mod tests {
     use crate::sampling::padded_sobol::{padded_sobol_1d, padded_sobol_2d};
     use crate::sampling::rng::PassStreams;
 
+    /// The set of all five draws.
+    const ALL_DRAWS: u32 = (1 << PADDED_DRAWS) - 1;
+
     /// Random keys and indices (SplitMix64 outputs, sample indices of every size).
     fn random_paths<const N: usize>(round: u64) -> [PathRng; N] {
         let index = mix64(round) as u32 >> (round % 32);
@@ -280,20 +305,21 @@ mod tests {
     }
 
     /// The computed draws are the scalar ones bit for bit, 1D and 2D, over many random keys
-    /// and sample indices, for whole groups of lanes and a last partial one, all five draws or
-    /// the first alone.
+    /// and sample indices, for whole groups of lanes and a last partial one, all five draws,
+    /// the first alone, or any set of them.
     #[test]
     fn computed_draws_match_the_scalar_draws() {
         for round in 0..2_000 {
             let paths = random_paths::<40>(round);
             let count = [40, 32, 16, 5, 1][round as usize % 5];
-            let draws = [PADDED_DRAWS, 1][round as usize / 5 % 2];
+            // All five, the first alone, and every other set of draws.
+            let draws = [ALL_DRAWS, 1, round as u32 / 10 % 32][round as usize / 5 % 3];
             let mut firsts = vec![FirstDraws::default(); count];
             FirstDraws::compute(&paths[..count], &mut firsts, draws);
             for (path, first) in paths.iter().zip(&firsts) {
                 assert_eq!(first.stream_key, path.counter_key());
                 let (key, index) = (path.pixel_key(), path.index_reversed());
-                for d in 0..draws {
+                for d in (0..PADDED_DRAWS).filter(|d| draws >> d & 1 == 1) {
                     let at = d as usize;
                     let x = padded_sobol_1d(key, index, d);
                     assert_eq!(first.values[at].to_bits(), x.to_bits(), "{round} {d}");
@@ -318,8 +344,8 @@ mod tests {
             let paths = random_paths::<8>(round);
             let computed = [PADDED_DRAWS, 1][round as usize % 2];
             let mut firsts = [FirstDraws::default(); 8];
-            FirstDraws::compute(&random_paths::<8>(round + 1), &mut firsts, PADDED_DRAWS);
-            FirstDraws::compute(&paths, &mut firsts, computed);
+            FirstDraws::compute(&random_paths::<8>(round + 1), &mut firsts, ALL_DRAWS);
+            FirstDraws::compute(&paths, &mut firsts, (1 << computed) - 1);
             for (k, path) in paths.iter().enumerate() {
                 let pattern = mix64(round + k as u64);
                 for first in [&firsts[k], &firsts[(k + 1) % 8]] {

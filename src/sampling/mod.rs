@@ -18,7 +18,9 @@ pub use alias::AliasTable;
 pub use bilinear::{Bilinear2D, BilinearFour, BilinearSample, GridCell};
 pub use distribution::Distribution1D;
 pub use divisor::Divisor;
-pub use first_draws::{FirstDraws, PathDraws};
+pub use first_draws::{
+    FirstDraws, LIGHT_CHOICE_DRAW, LIGHT_POINT_DRAW, LOBE_DRAW, MATERIAL_CHOICE_DRAW, PathDraws,
+};
 pub use pixel_sampler::{DimensionSampler, PassSampler, PixelSampler, SamplerKind};
 pub use rng::{PADDED_DRAWS, PassStreams, PathRng};
 
