@@ -12,8 +12,9 @@
 //! before. Every value is a pure function of (pixel key, sample index, draw), so the table's
 //! values are bit for bit the scalar ones. A draw whose value nothing in the scene uses (the
 //! material's choice where no material mixes, the light's choice or point where there is no
-//! choice or no light to sample, the lobe where no BSDF has two) is left out: a reader may read its stale value, or count the
-//! draw without reading it ([`PathDraws::skip`]), but never uses it.
+//! choice or no light to sample, the lobe where no BSDF has two) is left out: a reader may
+//! read its stale value, or count the draw without reading it ([`PathDraws::skip`]), but never
+//! uses it.
 //!
 //! A 1D draw is the first coordinate of the 2D draw of the same number (both scramble the
 //! shuffled index's radical inverse with the same seed), so a 2D draw's x serves a 1D request.
@@ -251,8 +252,8 @@ impl<'a, const AHEAD: u32> PathDraws<'a, AHEAD> {
         self.rng.skip_draw();
     }
 
-    /// [`PathDraws::next_f32`] where `needed`, else the draw counted but not made ([`PathDraws::skip`])
-    /// and 0 in its place.
+    /// [`PathDraws::next_f32`] where `needed`, else the draw counted but not made
+    /// ([`PathDraws::skip`]) and 0 in its place.
     #[inline(always)]
     pub fn next_f32_if(&mut self, needed: bool) -> f32 {
         if needed {
