@@ -37,7 +37,6 @@ use std::time::{Duration, Instant};
 
 use bevy_ecs::prelude::*;
 
-use crate::bsdf::Bsdf;
 use crate::camera::{CameraStage, register_cameras};
 use crate::film::{Film, PixelFilter, Reconstruction};
 use crate::light::{LightTable, build_light_table};
@@ -52,7 +51,7 @@ use crate::shared::Shared;
 use accumulate::{gather_unoccluded_light, retire_finished_paths};
 use batch::{HitBatch, PathBatch, ShadowBatch};
 use in_flight::{ChunkJob, ChunkPlan, ChunkWorld, Intake, MAX_IN_FLIGHT, trace_in_flight};
-use shade_path::shade_path_vertices;
+use shade_path::{draws_no_lobe, shade_path_vertices};
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
 use start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, start_pass};
 use trace::{trace_closest_hits, trace_shadow_rays};
@@ -429,15 +428,16 @@ fn worlds_in_flight() -> usize {
     rayon::current_num_threads().clamp(1, MAX_IN_FLIGHT)
 }
 
-/// Gives `world` (holding the settings and the light table) the state of a chunk in flight:
-/// which pass and pixels, and its batches.
+/// Gives `world` (holding the settings, the light table and the materials) the state of a
+/// chunk in flight: which pass and pixels, and its batches.
 fn insert_chunk_state(world: &mut World) {
     world.init_resource::<PassIndex>();
     world.init_resource::<ChunkRange>();
     world.init_resource::<PathBatch>();
     world.init_resource::<HitBatch>();
-    // The path tracer: one ray to a light drawn at random, and all its first vertex's padded
-    // draws computed ahead; the ray caster: one ray per light, and its BSDF choice.
+    // The path tracer: one ray to a light drawn at random, and its first vertex's padded draws
+    // read from the table (those the scene uses computed ahead); the ray caster: one ray per
+    // light, and its BSDF choice.
     let (rays_per_path, slot_per_light, draws_ahead) =
         match world.resource::<RenderSettings>().integrator {
             IntegratorKind::PathTracer => (1, false, PADDED_DRAWS),
@@ -456,14 +456,12 @@ fn insert_chunk_state(world: &mut World) {
 /// material's choice where no material mixes; where every path's first surface scatters it
 /// with a light sample (a delta BSDF draws its lobe and direction in the light's places, and a
 /// null surface leaves them to the next one), the light's choice where there is one light or
-/// none, the point on a light where there is none to sample, and the lobe where every BSDF is
-/// Lambertian or a GGX conductor (the queued kinds, which have one).
+/// none, the point on a light where there is none to sample, and the lobe where no BSDF draws
+/// one ([`draws_no_lobe`]: Lambertian or a GGX conductor).
 fn unused_first_draws(materials: &MaterialTable, lights: &LightTable) -> u32 {
     let draw = |unused: bool, draw: u32| u32::from(unused) << draw;
     let alike = materials.every_bsdf(|bsdf| !bsdf.is_delta());
-    let one_lobe = materials.every_bsdf(|bsdf| {
-        matches!(bsdf, Bsdf::Lambertian { .. }) || bsdf.isotropic_ggx_conductor().is_some()
-    });
+    let one_lobe = materials.every_bsdf(draws_no_lobe);
     draw(!materials.has_mix(), MATERIAL_CHOICE_DRAW)
         | draw(alike && !lights.has_choice(), LIGHT_CHOICE_DRAW)
         | draw(alike && !lights.can_choose(), LIGHT_POINT_DRAW)

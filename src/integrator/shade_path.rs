@@ -312,6 +312,12 @@ fn queued_surface(surface: &SurfacePoint, wo: Vec3, path: &PathSlots) -> QueuedS
     }
 }
 
+/// Whether [`shade_vertex`] queues a vertex with this BSDF for the diffuse or the conductor
+/// kernels, which have one lobe: [`queued_vertex`] counts its lobe's draw without making it.
+pub(super) fn draws_no_lobe(bsdf: &Bsdf) -> bool {
+    matches!(bsdf, Bsdf::Lambertian { .. }) || bsdf.isotropic_ggx_conductor().is_some()
+}
+
 /// A queued vertex's random numbers and light sample, drawn in the order the scalar path draws
 /// them (light choice, light point, lobe, direction; the choice where there is none to make,
 /// and the lobe, which neither BSDF reads, counted and not made), for the lanes that finish it; a
