@@ -68,3 +68,43 @@ fn add_unoccluded_slots(
 pub fn retire_finished_paths(mut batch: ResMut<PathBatch>) {
     batch.retire();
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One and two slots a path (the loop compiled for one slot apart): each path gains the
+    /// contributions of its filled, unoccluded slots only, and an empty or occluded slot's
+    /// contribution, even a NaN left from an earlier bounce, changes no bit of its radiance.
+    #[test]
+    fn only_filled_unoccluded_slots_add_light() {
+        let slot = |k: usize| Vec3::splat(2f32.powi(k as i32));
+        for k in [1, 2] {
+            // Path p's slot j: filled unless (p + j) % 3 == 0, occluded where (p + j) % 4 == 1.
+            let paths = 12;
+            let (mut t_max, mut occluded, mut contribution) = (vec![], vec![], vec![]);
+            for p in 0..paths {
+                for j in 0..k {
+                    let filled = (p + j) % 3 != 0;
+                    let blocked = (p + j) % 4 == 1;
+                    t_max.push(if filled { 1.0 } else { 0.0 });
+                    occluded.push(blocked);
+                    let counted = filled && !blocked;
+                    contribution.push(if counted { slot(j) } else { Vec3::NAN });
+                }
+            }
+            let mut radiance = vec![Vec3::splat(0.25); paths];
+            add_unoccluded(&mut radiance, &t_max, &occluded, &contribution);
+            for (p, radiance) in radiance.iter().enumerate() {
+                let expected = (0..k)
+                    .filter(|&j| (p + j) % 3 != 0 && (p + j) % 4 != 1)
+                    .fold(Vec3::splat(0.25), |sum, j| sum + slot(j));
+                assert_eq!(
+                    radiance.to_array(),
+                    expected.to_array(),
+                    "{k} slots, path {p}"
+                );
+            }
+        }
+    }
+}
