@@ -34,7 +34,7 @@ const PATHS_PER_TASK: usize = 1024;
 /// Adds to each path's radiance the contributions of its slots (`t_max.len() / radiance.len()`
 /// each, in slot order) that hold a ray (t_max > 0) found unoccluded. The path tracer's one
 /// slot a path is compiled apart, the count known: LLVM then vectorises the loop (the Cornell
-/// box's stage 25.0 -> 5.6 ms).
+/// box's stage about 24 -> 6 ms, one thread, 32 spp).
 fn add_unoccluded(radiance: &mut [Vec3], t_max: &[f32], occluded: &[bool], contribution: &[Vec3]) {
     let slots = (t_max, occluded, contribution);
     match t_max.len() / radiance.len() {
@@ -54,9 +54,10 @@ fn add_unoccluded_slots(
         .zip(contribution.chunks_exact(k));
     for (radiance, ((t_max, occluded), contribution)) in radiance.iter_mut().zip(paths) {
         for ((&t_max, &occluded), &contribution) in t_max.iter().zip(occluded).zip(contribution) {
-            // A select, not a branch: whether a shadow ray was blocked is a coin toss the
-            // branch predictor lost about a third of the time on the Cornell box. Adding zero
-            // leaves the sum's bits as they were (it is never -0).
+            // A select, not a branch: whether a shadow ray was blocked is a coin toss (the
+            // branch was a sixth of the Cornell box's mispredictions in cachegrind's model;
+            // the stage 52 -> 24 ms). Adding zero leaves the sum's bits as they were (a
+            // radiance starts at +0 and is never -0).
             let unoccluded = (t_max > 0.0) & !occluded;
             *radiance += Vec3::select(BVec3::splat(unoccluded), contribution, Vec3::ZERO);
         }
@@ -78,7 +79,7 @@ mod tests {
     /// contribution, even a NaN left from an earlier bounce, changes no bit of its radiance.
     #[test]
     fn only_filled_unoccluded_slots_add_light() {
-        let slot = |k: usize| Vec3::splat(2f32.powi(k as i32));
+        let slot = |j: usize| Vec3::splat(2f32.powi(j as i32));
         for k in [1, 2] {
             // Path p's slot j: filled unless (p + j) % 3 == 0, occluded where (p + j) % 4 == 1.
             let paths = 12;
