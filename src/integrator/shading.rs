@@ -83,13 +83,12 @@ impl Scene<'_> {
     /// The BSDF of the surface's material there (`None` for `null`: the ray passes through);
     /// a draw of the path's `rng` picks the side of each mix (at a material that is the same
     /// everywhere, and so has no mix, the draw is counted but not made: about a hash a vertex).
-    /// A bump map on the way bends the surface's
-    /// shading normal (the one hook for bump mapping). A material's BSDF that is the same
-    /// everywhere is lent from the table: no shading point to fill, no copy; any other is
-    /// built into `built` and lent from there (a `Cow` in its place copied its 120 bytes,
-    /// most of them unset, at every vertex). Inlined: out of line (as rustc's partition into
-    /// codegen units once left it) it took 3 % more of the Cornell box's instructions, and
-    /// the hint `#[inline]` did not bring it back.
+    /// A bump map on the way bends the surface's shading normal (the one hook for bump
+    /// mapping). A material's BSDF that is the same everywhere is lent from the table: no
+    /// shading point to fill, no copy; any other is built into `built` and lent from there (a
+    /// `Cow` in its place copied its 120 bytes, most of them unset, at every vertex). Inlined:
+    /// out of line (as rustc's partition into codegen units once left it) it took 3 % more of
+    /// the Cornell box's instructions, and the hint `#[inline]` did not bring it back.
     #[inline(always)]
     pub fn bsdf_at<'s, const AHEAD: u32>(
         &'s self,

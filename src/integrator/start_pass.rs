@@ -150,7 +150,9 @@ pub fn start_pass(
                         }
                     }
                 }
-                if padded_draws > 0 {
+                // None computed: the ray caster's one draw, the mix's choice, where no
+                // material mixes (its stale values go unread).
+                if padded_draws > 0 && draws_ahead != 0 {
                     FirstDraws::compute(rng, draws, draws_ahead);
                 }
                 throughput.fill(Vec3::ONE);
