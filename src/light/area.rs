@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3, Vec3A};
 
 use super::LightSample;
 use super::bvh::LightBounds;
-use crate::accel::{Aabb, PrimitiveRef};
+use crate::accel::{Aabb, PrimitiveRef, shared_edge};
 use crate::film::luminance;
 use crate::math::normalize_or;
 use crate::sampling::AliasTable;
@@ -422,25 +422,15 @@ impl EmitterParallelogram {
     /// diagonal are its mirror images through the diagonal's midpoint (q + r = s + t, to 1e-5
     /// of the size); `None` otherwise.
     fn new(first: &[Vec3; 3], second: &[Vec3; 3]) -> Option<Self> {
-        let shared: Vec<Vec3> = first
-            .iter()
-            .filter(|v| second.contains(v))
-            .copied()
-            .collect();
-        let [s, t] = shared.as_slice() else {
-            return None;
-        };
-        let opposite =
-            |triangle: &[Vec3; 3]| triangle.iter().find(|v| !shared.contains(v)).copied();
-        let (q, r) = (opposite(first)?, opposite(second)?);
-        let (edge1, edge2) = (*s - q, *t - q);
+        let ([s, t], [q, r]) = shared_edge(first, second)?;
+        let (edge1, edge2) = (s - q, t - q);
         let size = edge1.length().max(edge2.length());
         let (n1, n2) = (
             EmitterTriangle::new(first).normal,
             EmitterTriangle::new(second).normal,
         );
         let area = edge1.cross(edge2).length();
-        let is_parallelogram = (q + r - *s - *t).length() <= 1e-5 * size
+        let is_parallelogram = (q + r - s - t).length() <= 1e-5 * size
             && n1.dot(n2) > 1.0 - 1e-5
             && area.is_finite()
             && area > 0.0;
