@@ -33,7 +33,10 @@ impl SceneGeometry {
     /// bounds-checked. A sphere placed by a translation alone, without uv (the next most common
     /// hit, [`crate::accel::PrimitiveIds::as_sphere`]), is answered here too; the other kinds
     /// are decoded out of line ([`SceneGeometry::other_surface_point`]), which keeps these
-    /// paths free of their registers' saves and restores.
+    /// paths free of their registers' saves and restores. Always inlined: out of line, the
+    /// point went back through the stack to the caller, which read its fields at once (the
+    /// shading stage 2.6 % to 3.8 % slower on the furnace, dof-sky and the Cornell box).
+    #[inline(always)]
     pub fn surface_point(&self, hit: &Hit, origin: &Vec3, direction: &Vec3) -> SurfacePoint {
         let prim = hit.prim as usize;
         let Some(&ng) = self.face_normals.get(prim) else {
