@@ -33,8 +33,6 @@ use super::coplanar::{TriangleRun, coplanar_runs};
 use super::disk::Disk;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::{L8, L16, Lanes};
-#[cfg(target_arch = "x86_64")]
-use super::parallelogram::hit_lanes;
 use super::parallelogram::{Parallelogram, pair_consecutive};
 use super::pass_through::{MAX_LAYERS, PassThrough};
 use super::plane::Plane;
@@ -362,7 +360,53 @@ fn triangle_lanes<S: Lanes>(
     rays: &Rays<S>,
     t_max: S,
 ) -> Option<(S::Mask, S, S, S)> {
-    let [e1, e2, v0] = [splat3::<S>(&tri.e1), splat3(&tri.e2), splat3(&tri.v0)];
+    moller_trumbore::<S, false>((&tri.v0, &tri.e1, &tri.e2), rays, t_max)
+}
+
+/// [`triangle_lanes`] on a parallelogram of two triangles ([`super::parallelogram`]): where
+/// the rays hit it, their `t`, and the `u`, `v` and id (its bits in an `f32` lane) of the
+/// triangle each hits, the half `s + r <= 1` or the other; `None` where no lane hits.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn parallelogram_lanes<S: Lanes>(
+    quad: &Parallelogram,
+    rays: &Rays<S>,
+    t_max: S,
+) -> Option<(S::Mask, S, S, S, S)> {
+    let (hit, t, s, r) = moller_trumbore::<S, true>((&quad.v0, &quad.e1, &quad.e2), rays, t_max)?;
+    if S::bits(hit) == 0 {
+        return None;
+    }
+    let far_half = (s + r).gt(S::splat(1.0));
+    let map = |m: &[f32; 6]| {
+        (
+            S::splat(m[0]) * s + S::splat(m[1]) * r + S::splat(m[2]),
+            S::splat(m[3]) * s + S::splat(m[4]) * r + S::splat(m[5]),
+        )
+    };
+    let ((u0, v0), (u1, v1)) = (map(&quad.barycentrics[0]), map(&quad.barycentrics[1]));
+    let id = |id: u32| S::splat(f32::from_bits(id));
+    Some((
+        hit,
+        t,
+        u0.replaced(far_half, u1),
+        v0.replaced(far_half, v1),
+        id(quad.ids[0]).replaced(far_half, id(quad.ids[1])),
+    ))
+}
+
+/// Möller–Trumbore against `v0 + u e1 + v e2`, one ray per lane: where the rays hit with `t`
+/// in `(t_min, t_max)`, and `(t, u, v)`, the triangle `u, v >= 0, u + v <= 1` or, with
+/// `PARALLELOGRAM`, the parallelogram `u, v` in `[0, 1]`; `None` where no lane passes the
+/// first bound (the second cross product skipped).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn moller_trumbore<S: Lanes, const PARALLELOGRAM: bool>(
+    (v0, e1, e2): (&[f32; 3], &[f32; 3], &[f32; 3]),
+    rays: &Rays<S>,
+    t_max: S,
+) -> Option<(S::Mask, S, S, S)> {
+    let [e1, e2, v0] = [splat3::<S>(e1), splat3(e2), splat3(v0)];
     let (zero, one) = (S::splat(0.0), S::splat(1.0));
     let d = &rays.d;
     let p = cross(d, &e2);
@@ -377,7 +421,8 @@ fn triangle_lanes<S: Lanes>(
     let q = cross(&s, &e1);
     let v = dot(d, &q) * inv_det;
     let t = dot(&e2, &q) * inv_det;
-    let uv = S::and(v.ge(zero), (u + v).le(one));
+    let far_bound = if PARALLELOGRAM { v } else { u + v };
+    let uv = S::and(v.ge(zero), far_bound.le(one));
     let range = S::and(t.gt(rays.t_min), t.lt(t_max));
     let hit = S::and(u_mask, S::and(uv, range));
     Some((hit, t, u, v))
@@ -631,9 +676,10 @@ impl Flat {
                     prim = prim.replaced(hit, id(tri.id));
                 }
             }
-            let rays = (&lanes.o, &lanes.d, lanes.t_min);
             for quad in &self.parallelograms {
-                if let Some((hit, t, hit_u, hit_v, hit_id)) = hit_lanes(quad, rays, t_max) {
+                if let Some((hit, t, hit_u, hit_v, hit_id)) =
+                    parallelogram_lanes(quad, lanes, t_max)
+                {
                     t_max = t_max.replaced(hit, t);
                     (u, v) = (u.replaced(hit, hit_u), v.replaced(hit, hit_v));
                     prim = prim.replaced(hit, hit_id);

@@ -7,7 +7,9 @@
 //! parallelogram is the triangle's test with the bound `s + r <= 1` replaced by `r <= 1` (Lagae
 //! and Dutré, "An efficient ray-quadrilateral intersection test", 2005, for the general
 //! quadrilateral); a hit is reported on the half it falls in, with that triangle's barycentrics,
-//! an affine map of `(s, r)` with integer coefficients (below).
+//! an affine map of `(s, r)` with integer coefficients (below). This file pairs the triangles;
+//! the flat tracer's `parallelogram_lanes` tests the pairs, through the triangles' one
+//! Möller–Trumbore in lanes.
 //!
 //! The values are not the tree's to the bit: `t` comes from other edges' cross products, and
 //! `(u, v)` from `(s, r)` rather than the triangle's own test, each within a few units of
@@ -15,8 +17,6 @@
 //! never on neither (the two triangles' tests can miss both there). Only exact parallelograms
 //! are paired (to rounding: see [`pair`]), so that the surface tested is the triangles'.
 
-#[cfg(target_arch = "x86_64")]
-use super::lanes::Lanes;
 use glam::Vec3;
 
 /// A parallelogram `v0 + s e1 + r e2`, `s, r` in `[0, 1]`, made of two triangles.
@@ -131,62 +131,6 @@ pub(super) fn pair_consecutive(
         }
     }
     (parallelograms, alone)
-}
-
-/// The rays of `S` lanes (origins `o`, directions `d`) against `quad`: where they hit with `t`
-/// in `(t_min, t_max)` (perhaps nowhere), and `t`, the hit triangle's `u` and `v`, and its id's
-/// bits in an `f32` lane; `None` where no lane passes the first bound.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-pub(super) fn hit_lanes<S: Lanes>(
-    quad: &Parallelogram,
-    (o, d, t_min): (&[S; 3], &[S; 3], S),
-    t_max: S,
-) -> Option<(S::Mask, S, S, S, S)> {
-    let splat3 = |v: &[f32; 3]| v.map(S::splat);
-    let (e1, e2, v0) = (splat3(&quad.e1), splat3(&quad.e2), splat3(&quad.v0));
-    let (zero, one) = (S::splat(0.0), S::splat(1.0));
-    let dot = |a: &[S; 3], b: &[S; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let cross = |a: &[S; 3], b: &[S; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let p = cross(d, &e2);
-    let det = dot(&e1, &p);
-    let inv_det = one / det;
-    let s_vec = [o[0] - v0[0], o[1] - v0[1], o[2] - v0[2]];
-    let s = dot(&s_vec, &p) * inv_det;
-    let s_mask = S::and(S::and(det.ne(zero), s.ge(zero)), s.le(one));
-    if S::bits(s_mask) == 0 {
-        return None;
-    }
-    let q = cross(&s_vec, &e1);
-    let r = dot(d, &q) * inv_det;
-    let t = dot(&e2, &q) * inv_det;
-    let range = S::and(t.gt(t_min), t.lt(t_max));
-    let hit = S::and(s_mask, S::and(S::and(r.ge(zero), r.le(one)), range));
-    if S::bits(hit) == 0 {
-        return None;
-    }
-    let far_half = (s + r).gt(one);
-    let map = |m: &[f32; 6]| {
-        (
-            S::splat(m[0]) * s + S::splat(m[1]) * r + S::splat(m[2]),
-            S::splat(m[3]) * s + S::splat(m[4]) * r + S::splat(m[5]),
-        )
-    };
-    let ((u0, v0), (u1, v1)) = (map(&quad.barycentrics[0]), map(&quad.barycentrics[1]));
-    let id = |id: u32| S::splat(f32::from_bits(id));
-    Some((
-        hit,
-        t,
-        u0.replaced(far_half, u1),
-        v0.replaced(far_half, v1),
-        id(quad.ids[0]).replaced(far_half, id(quad.ids[1])),
-    ))
 }
 
 #[cfg(test)]
