@@ -91,7 +91,7 @@ pub(crate) struct Flat {
     /// For closest hits: the triangles not paired into `parallelograms`, in order, and the
     /// pairs ([`super::parallelogram`]).
     unpaired: Vec<FlatTriangle>,
-    pub(super) parallelograms: Vec<Parallelogram>,
+    parallelograms: Vec<Parallelogram>,
     runs: Vec<TriangleRun>,
     spheres: Vec<FlatSphere>,
     disks: Vec<FlatDisk>,
@@ -1449,8 +1449,8 @@ mod tests {
     /// On random small scenes, in groups of 8 lanes (AVX2) and 16 (AVX-512, where the CPU has
     /// it) and through `Accel`'s batch entry points: every closest hit equals
     /// the brute-force one bit for bit (ties to the lowest id; the random triangles make no
-    /// parallelogram), has the tree's `t` bit for bit, and every occlusion, with and without a pass-through set (in lanes at each width
-    /// and through `Accel`), is the tree's. Each scene with parallelograms added skips no hit
+    /// parallelogram), has the tree's `t` bit for bit, and every occlusion, with and without a
+    /// pass-through set (in lanes at each width and through `Accel`), is the tree's. Each scene with parallelograms added skips no hit
     /// by its coplanar runs ([`check_runs`]; a second random stream, so that the scenes and
     /// rays above stay those the tree was checked on), and runs are skipped in many groups at
     /// each width.

@@ -204,7 +204,7 @@ const SPHERE_NORMAL_TOLERANCE: f32 = 1e-4;
 /// differs by more than [`SPHERE_NORMAL_TOLERANCE`] (a small sphere far from the ray's origin),
 /// as a zero or non-finite point is (to +z). Mitsuba 3 (`sphere.cpp`) normalizes `p - centre`
 /// at every hit; the quotient by the radius takes a product where that takes a square root
-/// and a division in a row, on each vertex's chain of dependent operations: 11 % less time in
+/// and a division in a row, on each vertex's chain of dependent operations: 10 % less time in
 /// the furnace's shading, where every vertex is a sphere's (`foton bench --stages`, one
 /// thread). The comparison is a branch the predictor gets right, so the normalization is off
 /// the chain.
