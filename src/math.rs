@@ -2,7 +2,7 @@
 
 use std::ops::{Add, Mul, Sub};
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{BVec4A, Vec3, Vec3A, Vec4};
 
 /// `x.floor()` to the bit, without the call to libm's `floorf` that baseline x86-64 (no SSE4.1
 /// `roundss`) compiles `f32::floor` to (about 25 instructions a call, four per bilinear texture
@@ -176,9 +176,11 @@ pub fn is_finite(x: f32) -> bool {
     x.abs() <= f32::MAX
 }
 
-/// glam's `Vec3::is_finite` (every component finite), without branches between the components.
+/// glam's `Vec3::is_finite` (every component finite): [`is_finite`] on the three lanes in one
+/// vector compare, where the components one by one compiled to two branches and a scalar test
+/// (the check on every radiance a path adds: the furnace's and dof-sky's shading 2.5 % faster).
 pub fn is_finite_vec3(v: Vec3) -> bool {
-    is_finite(v.x) & is_finite(v.y) & is_finite(v.z)
+    Vec3A::from(v).abs().cmple(Vec3A::splat(f32::MAX)).all()
 }
 
 /// Moves a ray origin off a surface along its geometric normal, to the side `w` leaves on,
