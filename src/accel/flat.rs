@@ -32,7 +32,7 @@ use super::coplanar::RayScale;
 use super::coplanar::{TriangleRun, coplanar_runs};
 use super::disk::Disk;
 #[cfg(target_arch = "x86_64")]
-use super::lanes::{L8, L16, Lanes};
+use super::lanes::{Compress, L8, L16, Lanes};
 use super::parallelogram::{Parallelogram, pair_consecutive};
 use super::pass_through::{MAX_LAYERS, PassThrough};
 use super::plane::Plane;
@@ -197,8 +197,13 @@ impl Packed {
     }
 
     /// Packs those of the rays `start..start + PACKED` (as many as there are) whose range
-    /// `(t_min, t_max)` is not empty. Without branches: each ray is written at the next slot,
-    /// which advances only past a kept one.
+    /// `(t_min, t_max)` is not empty. Eight at a time: the group transposed in registers, its
+    /// kept rays moved to its front ([`Compress`]) and stored from the next free slot, which
+    /// then advances past them; the last rays one by one, each written at the next slot, which
+    /// advances only past a kept one. Without branches either way. One ray at a time, the
+    /// packing was half of `Flat::any_hits`' time on dof-sky and a quarter on the Cornell box
+    /// (`perf`), about 29 instructions a ray.
+    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn pack(&mut self, rays: (&[Vec3], &[Vec3], &[f32]), t_min: f32, start: usize) {
         let (origins, dirs, t_maxs) = rays;
@@ -206,17 +211,33 @@ impl Packed {
             .min(origins.len())
             .min(dirs.len())
             .min(t_maxs.len());
-        let rays = (origins[start..end].iter())
-            .zip(&dirs[start..end])
-            .zip(&t_maxs[start..end]);
-        let mut len = 0;
-        for (k, ((o, d), &t_max)) in rays.enumerate() {
+        let (mut len, mut k) = (0, start);
+        // A group's eight lanes end at most at len + 8 <= PACKED + MAX_LANES.
+        while end - k >= L8::LANES {
+            let [ox, oy, oz] = L8::load_points(&origins[k..]);
+            let [dx, dy, dz] = L8::load_points(&dirs[k..]);
+            let t_max = L8::load(&t_maxs[k..]);
+            let kept = L8::bits(L8::splat(t_min).lt(t_max));
+            let compress = Compress::new(kept);
+            for (axis, (o, d)) in [(ox, dx), (oy, dy), (oz, dz)].into_iter().enumerate() {
+                compress.apply(o).store(&mut self.o[axis][len..]);
+                compress.apply(d).store(&mut self.d[axis][len..]);
+            }
+            compress.apply(t_max).store(&mut self.t_max[len..]);
+            self.index[len..len + L8::LANES].copy_from_slice(&compress.indices(k as u32));
+            len += kept.count_ones() as usize;
+            k += L8::LANES;
+        }
+        let rays = (origins[k..end].iter())
+            .zip(&dirs[k..end])
+            .zip(&t_maxs[k..end]);
+        for (k, ((o, d), &t_max)) in (k..).zip(rays) {
             for axis in 0..3 {
                 self.o[axis][len] = o[axis];
                 self.d[axis][len] = d[axis];
             }
             self.t_max[len] = t_max;
-            self.index[len] = (start + k) as u32;
+            self.index[len] = k as u32;
             len += (t_min < t_max) as usize;
         }
         // Every slot a group may read past `len`: an earlier block's rays otherwise.
@@ -1376,6 +1397,59 @@ mod tests {
             }
         }
         best
+    }
+
+    /// A block's packed rays are those with a non-empty range, in order, with their indices:
+    /// against a filter of the rays, for blocks whose `t_max` are random among empty ones
+    /// (zero, negative, `t_min` itself, NaN) and live ones (finite, infinite), whole and
+    /// short, so that groups of eight keep every number of rays in every order; and past the
+    /// packed rays, the `t_max` a group reads are NaN.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn packing_keeps_the_rays_with_a_range_in_order() {
+        #[target_feature(enable = "avx2")]
+        fn pack(packed: &mut Packed, rays: (&[Vec3], &[Vec3], &[f32]), t_min: f32, start: usize) {
+            packed.pack(rays, t_min, start);
+        }
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
+        let t_min = 1e-4;
+        let choices = [0.0, -1.0, t_min, f32::NAN, 2.5, f32::INFINITY, 7.0, 1e-3];
+        let mut packed = Box::new(Packed::new());
+        for n in [PACKED, 2 * PACKED + 13, 7, 1, 300] {
+            let point = |rng: &mut Xoshiro256PlusPlus| {
+                let mut coordinate = || (rng.next_u32() >> 8) as f32 / 16_777_216.0 * 10.0 - 5.0;
+                Vec3::new(coordinate(), coordinate(), coordinate())
+            };
+            let origins: Vec<Vec3> = (0..n).map(|_| point(&mut rng)).collect();
+            let dirs: Vec<Vec3> = (0..n).map(|_| point(&mut rng)).collect();
+            let t_maxs: Vec<f32> = (0..n)
+                .map(|_| choices[rng.next_u32() as usize % choices.len()])
+                .collect();
+            for start in (0..n).step_by(PACKED) {
+                // SAFETY: the CPU has AVX2 (checked above).
+                unsafe { pack(&mut packed, (&origins, &dirs, &t_maxs), t_min, start) };
+                let kept: Vec<usize> = (start..n.min(start + PACKED))
+                    .filter(|&i| t_min < t_maxs[i])
+                    .collect();
+                assert_eq!(packed.len, kept.len(), "{n} rays, block at {start}");
+                for (slot, &i) in kept.iter().enumerate() {
+                    assert_eq!(packed.index[slot], i as u32);
+                    assert_eq!(packed.t_max[slot].to_bits(), t_maxs[i].to_bits());
+                    for axis in 0..3 {
+                        assert_eq!(packed.o[axis][slot], origins[i][axis]);
+                        assert_eq!(packed.d[axis][slot], dirs[i][axis]);
+                    }
+                }
+                let past = &packed.t_max[packed.len..packed.len + MAX_LANES];
+                assert!(
+                    past.iter().all(|t| t.is_nan()),
+                    "{n} rays, block at {start}"
+                );
+            }
+        }
     }
 
     /// The thread's packed block is reused from call to call: a call whose blocks hold few

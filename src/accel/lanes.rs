@@ -54,6 +54,65 @@ pub(crate) trait Lanes:
 #[derive(Clone, Copy)]
 pub(crate) struct L8(__m256);
 
+/// A permutation of eight lanes that moves those set in a mask (bit `i` for lane `i`) to the
+/// front, in order: a group's kept lanes, stored from the next free slot, are the group
+/// compacted (the lanes after them, overwritten by the next group or unused, are the dropped
+/// ones).
+#[derive(Clone, Copy)]
+pub(crate) struct Compress(__m256i);
+
+/// For each mask of eight lanes, the lanes set in it in order, as 4-bit fields: field `i`
+/// (bits `4i..4i + 4`) is the lane that goes to lane `i`; 0 past the kept ones.
+const COMPRESS_FIELDS: [u32; 256] = {
+    let mut table = [0u32; 256];
+    let mut mask = 0;
+    while mask < 256 {
+        let (mut field, mut lane) = (0, 0);
+        while lane < 8 {
+            if mask >> lane & 1 == 1 {
+                table[mask] |= (lane as u32) << (4 * field);
+                field += 1;
+            }
+            lane += 1;
+        }
+        mask += 1;
+    }
+    table
+};
+
+impl Compress {
+    /// The permutation for the lanes set in `kept` (its low eight bits).
+    #[inline(always)]
+    pub(crate) fn new(kept: u32) -> Self {
+        let fields = COMPRESS_FIELDS[(kept & 0xff) as usize] as i32;
+        // SAFETY: see the module's documentation.
+        Compress(unsafe {
+            let shifts = _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28);
+            let lanes = _mm256_srlv_epi32(_mm256_set1_epi32(fields), shifts);
+            _mm256_and_si256(lanes, _mm256_set1_epi32(0xf))
+        })
+    }
+
+    #[inline(always)]
+    pub(crate) fn apply(self, values: L8) -> L8 {
+        // SAFETY: see the module's documentation.
+        L8(unsafe { _mm256_permutevar8x32_ps(values.0, self.0) })
+    }
+
+    /// `first + i` for lanes `i` of eight, permuted (the kept lanes' indices, first).
+    #[inline(always)]
+    pub(crate) fn indices(self, first: u32) -> [u32; 8] {
+        // SAFETY: see the module's documentation; eight u32 lanes are [u32; 8]'s bytes.
+        unsafe {
+            let lanes = _mm256_add_epi32(
+                _mm256_set1_epi32(first as i32),
+                _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+            );
+            std::mem::transmute(_mm256_permutevar8x32_epi32(lanes, self.0))
+        }
+    }
+}
+
 /// Sixteen lanes (AVX-512F).
 #[derive(Clone, Copy)]
 pub(crate) struct L16(__m512);
