@@ -212,7 +212,8 @@ impl Packed {
             .min(dirs.len())
             .min(t_maxs.len());
         let (mut len, mut k) = (0, start);
-        // A group's eight lanes end at most at len + 8 <= PACKED + MAX_LANES.
+        // A group's eight lanes, stored from `len <= k - start`, end within the block's PACKED
+        // slots.
         while end - k >= L8::LANES {
             let [ox, oy, oz] = L8::load_points(&origins[k..]);
             let [dx, dy, dz] = L8::load_points(&dirs[k..]);
