@@ -178,7 +178,7 @@ pub fn is_finite(x: f32) -> bool {
 
 /// glam's `Vec3::is_finite` (every component finite): [`is_finite`] on the three lanes in one
 /// vector compare, where the components one by one compiled to two branches and a scalar test
-/// (the check on every radiance a path adds: the furnace's and dof-sky's shading 2.5 % faster).
+/// (this is the check on every radiance a path adds).
 pub fn is_finite_vec3(v: Vec3) -> bool {
     Vec3A::from(v).abs().cmple(Vec3A::splat(f32::MAX)).all()
 }

@@ -997,8 +997,8 @@ mod tests {
     }
 
     /// Rays from all sides aimed at the triangles' vertices and edges, at the spheres' centres
-    /// and at points near the disks' rims, with finite and infinite `t_max`; some unusable (zero direction, NaN, an
-    /// empty range).
+    /// and at points near the disks' rims, with finite and infinite `t_max`; some unusable
+    /// (zero direction, NaN, an empty range).
     fn rays(scene: &Primitives, rng: &mut Xoshiro256PlusPlus) -> (Vec<Vec3>, Vec<Vec3>, Vec<f32>) {
         let mut rays = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..203 {
@@ -1522,13 +1522,13 @@ mod tests {
     }
 
     /// On random small scenes, in groups of 8 lanes (AVX2) and 16 (AVX-512, where the CPU has
-    /// it) and through `Accel`'s batch entry points: every closest hit equals
-    /// the brute-force one bit for bit (ties to the lowest id; the random triangles make no
-    /// parallelogram), has the tree's `t` bit for bit, and every occlusion, with and without a
-    /// pass-through set (in lanes at each width and through `Accel`), is the tree's. Each scene with parallelograms added skips no hit
-    /// by its coplanar runs ([`check_runs`]; a second random stream, so that the scenes and
-    /// rays above stay those the tree was checked on), and runs are skipped in many groups at
-    /// each width.
+    /// it) and through `Accel`'s batch entry points: every closest hit equals the brute-force
+    /// one bit for bit (ties to the lowest id; the random triangles make no parallelogram), has
+    /// the tree's `t` bit for bit, and every occlusion, with and without a pass-through set (in
+    /// lanes at each width and through `Accel`), is the tree's. Each scene with parallelograms
+    /// added skips no hit by its coplanar runs ([`check_runs`]; a second random stream, so that
+    /// the scenes and rays above stay those the tree was checked on), and runs are skipped in
+    /// many groups at each width.
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn flat_matches_brute_force_and_tree() {

@@ -93,6 +93,7 @@ impl Compress {
         })
     }
 
+    /// `values` with the kept lanes first, in order.
     #[inline(always)]
     pub(crate) fn apply(self, values: L8) -> L8 {
         // SAFETY: see the module's documentation.

@@ -290,11 +290,11 @@ type PassSum = [f32; 4];
 /// when the next pass begins ([`Film::begin_pass`]); otherwise a sample adds to its pixel's f64
 /// sums at once (one sample per pixel and pass: an f32 pass sum would round nothing). After
 /// 1e5 samples of similar magnitude an f32 sum would keep only ~7 of its 24 bits for each new
-/// sample; f64 keeps ~36. Within one pass a pixel gets
-/// a few contributions (one sample per pixel, over a footprint of k pixels: about k), so the
-/// f32 sum's relative error is at most about k 2^-24 of the sum of its terms' magnitudes
-/// (Higham, *Accuracy and Stability of Numerical Algorithms*, §4.2): 1e-6 for a 4x4 footprint,
-/// far below a pass's noise. Half the bytes per pixel to add to, and to cache, than f64.
+/// sample; f64 keeps ~36. Within one pass a pixel gets a few contributions (one sample per
+/// pixel, over a footprint of k pixels: about k), so the f32 sum's relative error is at most
+/// about k 2^-24 of the sum of its terms' magnitudes (Higham, *Accuracy and Stability of
+/// Numerical Algorithms*, §4.2): 1e-6 for a 4x4 footprint, far below a pass's noise. Half the
+/// bytes per pixel to add to, and to cache, than f64.
 #[derive(Resource, Clone, Debug)]
 pub struct Film {
     width: u32,

@@ -255,8 +255,8 @@ path_columns! {
 impl<const AHEAD: u32> PathSlots<'_, AHEAD> {
     /// Adds `light` to the path's radiance; a non-finite value (a bug, never a feature of the
     /// scene) is dropped rather than let through to the film. Always inline: left to the
-    /// compiler, a change elsewhere in the crate (stop 42's shadow-ray packing) once moved it
-    /// out of `shade_vertex`, whose shading then took 10 % to 16 % longer.
+    /// compiler, a change elsewhere in the crate (stop 42's shadow-ray packing) once left it
+    /// out of line in `shade_vertex`, a call for every radiance a path adds.
     #[inline(always)]
     pub fn add_radiance(&mut self, light: Vec3) {
         if math::is_finite_vec3(light) {
