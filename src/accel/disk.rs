@@ -60,10 +60,11 @@ impl Disk {
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_random;
     use super::*;
     use glam::{Quat, Vec3};
     use rand_xoshiro::Xoshiro256PlusPlus;
-    use rand_xoshiro::rand_core::{Rng, SeedableRng};
+    use rand_xoshiro::rand_core::SeedableRng;
 
     /// Random placed disks (rotated, non-uniformly scaled, moved) and rays aimed near them:
     /// each answer must be the brute-force geometry's, found in world space without the
@@ -74,8 +75,7 @@ mod tests {
     #[test]
     fn hits_match_world_space_geometry() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(9);
-        let mut uniform =
-            |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let mut uniform = |lo: f32, hi: f32| test_random::uniform(&mut rng, lo, hi);
         let (mut hits, mut misses_near_rim, mut hits_near_rim) = (0, 0, 0);
         for _ in 0..20_000 {
             let scale = Vec3::new(uniform(0.2, 3.0), uniform(0.2, 3.0), uniform(0.2, 3.0));

@@ -934,6 +934,7 @@ impl Flat {
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_random;
     use glam::{Affine3A, Quat};
     use rand_xoshiro::Xoshiro256PlusPlus;
     use rand_xoshiro::rand_core::{Rng, SeedableRng};
@@ -948,8 +949,7 @@ mod tests {
     /// ellipsoid or a few, sometimes a plane, sometimes an elliptic disk or two, and one
     /// degenerate triangle and sphere.
     fn scene(rng: &mut Xoshiro256PlusPlus) -> Primitives {
-        let mut uniform =
-            |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let mut uniform = |lo: f32, hi: f32| test_random::uniform(rng, lo, hi);
         let grid = |x: f32| (x * 2.0).round() * 0.5;
         let mut point = || Vec3::new(uniform(-2.0, 2.0), uniform(-2.0, 2.0), uniform(-2.0, 2.0));
         let mut triangles: Vec<[Vec3; 3]> = (0..(point().x.abs() * 7.0) as usize + 2)
@@ -1002,8 +1002,7 @@ mod tests {
     fn rays(scene: &Primitives, rng: &mut Xoshiro256PlusPlus) -> (Vec<Vec3>, Vec<Vec3>, Vec<f32>) {
         let mut rays = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..203 {
-            let mut uniform =
-                |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+            let mut uniform = |lo: f32, hi: f32| test_random::uniform(rng, lo, hi);
             let aim = if i % 7 == 5 && !scene.disks.is_empty() {
                 let (s, c) = uniform(0.0, 6.3).sin_cos();
                 let r = uniform(0.9, 1.1);
@@ -1040,8 +1039,7 @@ mod tests {
     /// axis-aligned, as a room's walls) after its triangles, on the half-unit grid, so that
     /// each one's four corners lie exactly in one plane.
     fn with_parallelograms(scene: &Primitives, rng: &mut Xoshiro256PlusPlus) -> Primitives {
-        let mut uniform =
-            |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let mut uniform = |lo: f32, hi: f32| test_random::uniform(rng, lo, hi);
         let grid = |x: f32| (x * 2.0).round() * 0.5;
         let mut point = || Vec3::new(uniform(-2.0, 2.0), uniform(-2.0, 2.0), uniform(-2.0, 2.0));
         let mut triangles = scene.triangles.clone();
@@ -1074,8 +1072,7 @@ mod tests {
         let runs: Vec<&TriangleRun> = flat.runs.iter().filter(|run| run.plane.is_some()).collect();
         // A parallelogram may be degenerate or a sliver: no run then.
         for i in (0..336).take_while(|_| !runs.is_empty()) {
-            let mut uniform =
-                |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+            let mut uniform = |lo: f32, hi: f32| test_random::uniform(rng, lo, hi);
             let run = runs[i / 48 % runs.len()];
             let tri = &flat.triangles[run.triangles.start + i % run.triangles.len()];
             let (v0, e1, e2) = (Vec3::from(tri.v0), Vec3::from(tri.e1), Vec3::from(tri.e2));
@@ -1421,8 +1418,11 @@ mod tests {
         let mut packed = Box::new(Packed::new());
         for n in [PACKED, 2 * PACKED + 13, 7, 1, 300] {
             let point = |rng: &mut Xoshiro256PlusPlus| {
-                let mut coordinate = || (rng.next_u32() >> 8) as f32 / 16_777_216.0 * 10.0 - 5.0;
-                Vec3::new(coordinate(), coordinate(), coordinate())
+                Vec3::new(
+                    test_random::uniform(rng, -5.0, 5.0),
+                    test_random::uniform(rng, -5.0, 5.0),
+                    test_random::uniform(rng, -5.0, 5.0),
+                )
             };
             let origins: Vec<Vec3> = (0..n).map(|_| point(&mut rng)).collect();
             let dirs: Vec<Vec3> = (0..n).map(|_| point(&mut rng)).collect();

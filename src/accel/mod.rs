@@ -28,6 +28,8 @@ mod plane;
 mod primitive;
 mod shadow_packet;
 mod sphere;
+#[cfg(test)]
+mod test_random;
 mod triangle;
 mod triangle_lanes;
 pub(crate) mod vex;

@@ -135,17 +135,17 @@ pub(super) fn pair_consecutive(
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_random;
     use glam::{Affine3A, Quat};
     use rand_xoshiro::Xoshiro256PlusPlus;
-    use rand_xoshiro::rand_core::{Rng, SeedableRng};
+    use rand_xoshiro::rand_core::SeedableRng;
 
     use super::super::{Accel, Primitives};
     use super::*;
 
     /// A rectangle's corners `a b c d` (in order round it) under a rotation, scale and move.
     fn rectangle(rng: &mut Xoshiro256PlusPlus) -> [Vec3; 4] {
-        let mut uniform =
-            |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let mut uniform = |lo: f32, hi: f32| test_random::uniform(rng, lo, hi);
         let axis = Vec3::new(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0));
         let to_world = Affine3A::from_scale_rotation_translation(
             Vec3::new(uniform(0.2, 2.0), uniform(0.2, 2.0), 1.0),
@@ -236,8 +236,7 @@ mod tests {
     #[test]
     fn paired_rectangles_hit_as_their_triangles() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(6);
-        let mut uniform =
-            move |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let mut uniform = move |lo: f32, hi: f32| test_random::uniform(&mut rng, lo, hi);
         let mut scene_rng = Xoshiro256PlusPlus::seed_from_u64(7);
         let (mut inside, mut on_diagonal) = (0, 0);
         for scene in 0..30 {

@@ -141,10 +141,11 @@ impl Sphere4 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_random;
     use super::*;
     use glam::Vec3;
     use rand_xoshiro::Xoshiro256PlusPlus;
-    use rand_xoshiro::rand_core::{Rng, SeedableRng};
+    use rand_xoshiro::rand_core::SeedableRng;
 
     /// The one-sphere test, written with glam's vector operations: the reference the packet
     /// must match.
@@ -173,8 +174,7 @@ mod tests {
     #[test]
     fn packet_matches_scalar_test_bit_for_bit() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
-        let mut uniform =
-            |lo: f32, hi: f32| lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / 16_777_216.0;
+        let mut uniform = |lo: f32, hi: f32| test_random::uniform(&mut rng, lo, hi);
         let (mut hits, mut inside) = (0, 0);
         for _ in 0..20_000 {
             let count = 1 + (uniform(0.0, 4.0) as usize).min(3);
