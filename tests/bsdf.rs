@@ -1,8 +1,6 @@
 //! Tests of the BSDFs: energy (white furnace), sampling consistency,
 //! reciprocity, the GGX normalisation, and robustness.
 
-mod common;
-
 use foton::bsdf::beckmann::Beckmann;
 use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::frame::Frame;
@@ -17,8 +15,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 use std::f32::consts::PI;
 
-use common::bsdf_outputs::assert_finite_outputs;
-use common::chi_square::DirectionGrid;
+use crate::common::bsdf_outputs::assert_finite_outputs;
+use crate::common::chi_square::DirectionGrid;
 
 const N: usize = 100_000;
 

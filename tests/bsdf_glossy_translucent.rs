@@ -2,18 +2,16 @@
 //! sampled albedo against a quadrature of eval over the sphere, closed forms at normal
 //! incidence, the back coating on the back, finite outputs.
 
-mod common;
-
 use std::f32::consts::PI;
 
 use foton::bsdf::glossy_translucent::{Coating, GlossyTranslucent};
 use foton::bsdf::{Bsdf, CoatedGlossy};
 use glam::{Vec2, Vec3};
 
-use common::bsdf_estimates::{
+use crate::common::bsdf_estimates::{
     assert_samples_match_eval, assert_sampling_follows_pdf, quadrature, sampled_albedo,
 };
-use common::bsdf_outputs::assert_finite_outputs;
+use crate::common::bsdf_outputs::assert_finite_outputs;
 
 /// A direction at `theta` from the normal (below the surface for theta > pi / 2).
 fn wo(theta: f32) -> Vec3 {

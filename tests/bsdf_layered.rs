@@ -3,8 +3,6 @@
 //! conserved, known reflectances, sampling against eval and pdf (also by chi-square, with the
 //! lobe choice random), reciprocity (generalised for refraction), and robustness.
 
-mod common;
-
 use foton::bsdf::fresnel::fr_dielectric;
 use foton::bsdf::microfacet::TrowbridgeReitz;
 use foton::bsdf::microfacet_distribution::{DistributionKind, Microfacet};
@@ -16,8 +14,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 use std::f32::consts::PI;
 
-use common::bsdf_outputs::assert_finite_outputs;
-use common::chi_square::DirectionGrid;
+use crate::common::bsdf_outputs::assert_finite_outputs;
+use crate::common::chi_square::DirectionGrid;
 
 const N: usize = 200_000;
 

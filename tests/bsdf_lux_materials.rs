@@ -6,8 +6,6 @@
 //! fitted conductor Fresnel term, the measured fits, plastic, substrate), and finite outputs
 //! on degenerate input.
 
-mod common;
-
 use std::f32::consts::PI;
 
 use foton::bsdf::fresnel::{approx_eta, approx_k, fr_dielectric, fr_general};
@@ -24,10 +22,10 @@ use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::SeedableRng;
 
-use common::bsdf_estimates::{
+use crate::common::bsdf_estimates::{
     assert_samples_match_eval, assert_sampling_follows_pdf, quadrature, sampled_albedo, uniform,
 };
-use common::bsdf_outputs::assert_finite_outputs;
+use crate::common::bsdf_outputs::assert_finite_outputs;
 
 /// Energy conservation: at each `wo(theta)` the sampled albedo is at most 1, allowing five
 /// standard errors of its estimate (seed `seed`).

@@ -13,8 +13,6 @@
 //!   quadrature's error. A sampler that misses a region where f > 0 falls short by that region's
 //!   share of the integral.
 
-mod common;
-
 use foton::bsdf::coated_glossy::coating_f0;
 use foton::bsdf::glossy_translucent::{Coating, GlossyTranslucent};
 use foton::bsdf::lafortune::{LafortuneFit, LafortuneLobe};
@@ -34,7 +32,7 @@ use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::SeedableRng;
 
-use common::bsdf_estimates::{quadrature, uniform};
+use crate::common::bsdf_estimates::{quadrature, uniform};
 
 /// The number of BSDF kinds; `kind` numbers them.
 const KINDS: usize = 20;

@@ -1,8 +1,6 @@
 //! The diffuse reflection + transmission BSDF (LuxRender's `mattetranslucent`): energy, its
 //! sampling against its pdf and eval over the whole sphere, reciprocity.
 
-mod common;
-
 use std::f32::consts::PI;
 
 use foton::bsdf::oren_nayar::oren_nayar_ab;
@@ -11,7 +9,7 @@ use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::{Rng, SeedableRng};
 
-use common::chi_square::DirectionGrid;
+use crate::common::chi_square::DirectionGrid;
 
 /// A uniform number in [0, 1) from the top 24 bits.
 fn uniform(r: &mut Xoshiro256PlusPlus) -> f32 {

@@ -11,12 +11,10 @@
 //! - Depth of field: the 10%-90% width of a defocused edge matches the thin lens's circle of
 //!   confusion, and the edge in focus is sharp.
 
-mod common;
-
 use std::f32::consts::{FRAC_1_SQRT_2, PI};
 use std::path::Path;
 
-use common::*;
+use crate::common::*;
 use foton::camera::equirectangular::equirectangular_direction;
 use foton::camera::fisheye::{self, FisheyeFit, fisheye_direction};
 use foton::camera::{CameraType, equirectangular, orthographic, pinhole, thin_lens};

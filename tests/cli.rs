@@ -1,13 +1,11 @@
 //! The binary end to end: what a user sees from `foton render`.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use foton::film::{read_exr, read_png_linear};
 
-use common::{foton, stderr, stdout, temp_dir};
+use crate::common::{self, foton, stderr, stdout, temp_dir};
 
 fn project_scene(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

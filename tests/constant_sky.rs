@@ -3,11 +3,9 @@
 //! light samples goes to the other lights. Exact where that is exact (the furnace), unbiased
 //! against light-sampling the sky and with less variance, and the ray caster still samples it.
 
-mod common;
-
 use std::sync::Arc;
 
-use common::*;
+use crate::common::*;
 use foton::light::Light;
 use foton::light::infinite::{Environment, InfiniteLight};
 use foton::scene::build::RenderOptions;

@@ -1,8 +1,6 @@
 //! foton's images of the course's scenes against the one LuxRender render the course kept.
 
-mod common;
-
-use common::{correlation, downsample};
+use crate::common::{self, correlation, downsample};
 use foton::film::{exposure_scale, read_png_linear};
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world, tone_map};

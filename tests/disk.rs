@@ -1,10 +1,9 @@
 //! Mitsuba's `disk` as an analytic primitive: read as one, hit where the placed unit disk is,
 //! with Mitsuba's uv (u = r, v = φ / 2π, `disk.cpp`) and its normal `Mx × My`.
 
-mod common;
-
 use std::f32::consts::TAU;
 
+use crate::common;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::Geometry;

@@ -10,9 +10,7 @@
 //! test passes or fails deterministically). ln F(k, k) is close to normal with variance 4 / k,
 //! so that quantile is exp(-3.09 * 2 / sqrt(k)).
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use foton::film::Reconstruction;
 use foton::integrator::Renderer;
 use foton::light::LightSelection;

@@ -1,8 +1,6 @@
 //! The integrators against known answers: energy, determinism, finite output.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use foton::scene::desc::LightDesc;
 use foton::settings::IntegratorKind;
 use glam::{Mat4, Vec3};

@@ -1,9 +1,7 @@
 //! The public LuxRender scenes of `../shared/scenes/luxrender` (SOURCES.md there): what foton
 //! reads of them.
 
-mod common;
-
-use common::{correlation, downsample};
+use crate::common::{self, correlation, downsample};
 use foton::film::{apply_display_tone_map, exposure_scale, read_png_linear};
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world, tone_map};

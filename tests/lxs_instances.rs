@@ -1,10 +1,9 @@
 //! LuxRender's `ObjectBegin`/`ObjectInstance` as instances of shared meshes: the same image as
 //! the shapes written out one by one, in less memory.
 
-mod common;
-
 use std::fmt::Write;
 
+use crate::common;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::shape::geometry::SceneGeometry;

@@ -1,12 +1,11 @@
 //! LuxRender materials read from `.lxs` text and rendered: bump maps and float parameters
 //! given by spatially varying textures, each against a closed form.
 
-mod common;
-
 use std::path::PathBuf;
 
 use std::f32::consts::PI;
 
+use crate::common;
 use foton::scene::desc::{ColorParam, LightDesc, MaterialDesc, Roughness, SceneDesc};
 use foton::settings::IntegratorKind;
 use glam::Vec3;

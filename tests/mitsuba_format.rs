@@ -1,8 +1,7 @@
 //! The Mitsuba format layer on the shared public scenes: every XML file parses, with no error, and
 //! every mesh it names reads. Skipped where ../shared (or $FOTON_SHARED) is absent.
 
-mod common;
-
+use crate::common;
 use foton::scene::io::{obj, serialized};
 use foton::scene::mitsuba::{self, Value};
 

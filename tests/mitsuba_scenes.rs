@@ -1,10 +1,9 @@
 //! Mitsuba scenes through `scene::load`: the seven shared public scenes load and render (skipped
 //! where ../shared is absent), and the conversion's semantics on scenes written here.
 
-mod common;
-
 use std::path::PathBuf;
 
+use crate::common;
 use foton::integrator::Renderer;
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::desc::SceneDesc;

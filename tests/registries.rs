@@ -1,13 +1,11 @@
 //! The registries: scene formats by file extension (`scene::LOADERS`), cameras by name
 //! (`camera::CAMERAS`), and the command line's `--camera`, which takes its values from the latter.
 
-mod common;
-
 use std::path::Path;
 
 use foton::camera::{self, CAMERAS};
 
-use common::{foton, temp_dir};
+use crate::common::{foton, temp_dir};
 
 const WORLD: &str = "WorldBegin\nWorldEnd\n";
 

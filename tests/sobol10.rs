@@ -7,9 +7,7 @@
 //! below the 0.001 quantile of F(k, k)", exp(-3.09 * 2 / sqrt(k)) by the normal approximation
 //! of ln F (variance 4 / k), as in tests/error_per_sample.rs.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use foton::sampling::SamplerKind;
 use foton::scene::build::RenderOptions;
 use foton::scene::desc::SceneDesc;

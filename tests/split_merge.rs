@@ -1,15 +1,13 @@
 //! Renders split into parts (`foton render --passes`, `--crop`) and merged (`foton merge`): the
 //! merged image is the one render's, bit for bit; parts that do not belong together are refused.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use foton::film::part::read_part;
 use foton::film::read_exr;
 
-use common::{foton, stderr, stdout, temp_dir};
+use crate::common::{foton, stderr, stdout, temp_dir};
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell.lxs");
 /// A small render of the Cornell box (Blackman-Harris filter of radius 1.5, splatted: samples

@@ -2,11 +2,9 @@
 //! irradiance it gives against the delta light's, its penumbra against the geometry, and what
 //! `--verbose` says of it.
 
-mod common;
-
 use std::f32::consts::{FRAC_PI_4, PI};
 
-use common::*;
+use crate::common::*;
 use foton::light::sun_disc::SunDiscLight;
 use foton::scene::desc::{LightDesc, SceneDesc};
 use foton::settings::IntegratorKind;
