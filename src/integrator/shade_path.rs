@@ -20,7 +20,7 @@ use super::shading::{
 use crate::accel::Hit;
 use crate::bsdf::{Bsdf, unit_direction};
 use crate::light::infinite::{Environment, SkyLookup};
-use crate::light::{Light, LightTable};
+use crate::light::{EscapedLight, Light, LightTable};
 use crate::sampling::warp::power_heuristic;
 use crate::shape::geometry::NO_EMITTER;
 use crate::shape::surface::SurfacePoint;
@@ -180,16 +180,26 @@ fn shade_miss(scene: &Scene, paths: &mut PathColumns, escaped: &mut EscapedQueue
     let mut path = paths.slots(slot);
     let lights = scene.lights;
     let hidden = hides_emitters(scene, &path);
-    let environment = lights.environment().filter(|_| !hidden);
-    if let Some((_, environment)) = environment
-        && !environment.is_constant()
-    {
-        escaped.push(slot, *path.direction);
-        return;
+    match lights.escaped_light() {
+        EscapedLight::Dark => *path.alive = false,
+        // `shade_escaped`'s sum, with its MIS weight of 1 left out.
+        EscapedLight::Uniform(radiance) => {
+            if !hidden {
+                path.add_radiance(*path.throughput * radiance);
+            }
+            *path.alive = false;
+        }
+        EscapedLight::Map if !hidden => escaped.push(slot, *path.direction),
+        EscapedLight::Map | EscapedLight::SunDiscs => {
+            let sky = lights
+                .environment()
+                .filter(|_| !hidden)
+                .map(|(index, environment)| {
+                    (index, environment, environment.look_up(*path.direction))
+                });
+            shade_escaped(lights, &mut path, sky, hidden);
+        }
     }
-    let sky = environment
-        .map(|(index, environment)| (index, environment, environment.look_up(*path.direction)));
-    shade_escaped(lights, &mut path, sky, hidden);
 }
 
 /// A path whose ray escaped: the environment's light `sky` (its index, the light and its

@@ -472,6 +472,11 @@ impl Environment {
         self.map.is_none()
     }
 
+    /// The radiance from every direction of a constant sky; `None` for a map.
+    pub fn constant_radiance(&self) -> Option<Vec3> {
+        self.is_constant().then_some(self.radiance)
+    }
+
     /// Radiance arriving along `-direction` (from `direction`).
     pub fn radiance(&self, direction: Vec3) -> Vec3 {
         self.look_up(direction).radiance

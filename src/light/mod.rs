@@ -159,6 +159,40 @@ pub struct LightTable {
     environment: Option<u32>,
     /// Indices into `lights` of the sun discs, which escaped rays can see.
     sun_discs: Vec<u32>,
+    /// See [`LightTable::escaped_light`].
+    escaped_light: EscapedLight,
+}
+
+/// What the rays that leave the scene see.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EscapedLight {
+    /// Nothing: no environment and no sun disc.
+    Dark,
+    /// The same radiance from every direction, with MIS weight 1: a constant sky, which light
+    /// sampling leaves to BSDF sampling ([`Light::sample_for_mis`]), so that no other strategy
+    /// finds it; no sun disc.
+    Uniform(Vec3),
+    /// An environment map, with sun discs or without.
+    Map,
+    /// Sun discs, under a constant sky or none.
+    SunDiscs,
+}
+
+impl EscapedLight {
+    fn of(lights: &[Light], environment: Option<u32>, sun_discs: &[u32]) -> Self {
+        let radiance = match environment.and_then(|index| lights.get(index as usize)) {
+            Some(Light::Environment(environment)) => match environment.constant_radiance() {
+                Some(radiance) => radiance,
+                None => return Self::Map,
+            },
+            _ => Vec3::ZERO,
+        };
+        match (sun_discs.is_empty(), radiance == Vec3::ZERO) {
+            (false, _) => Self::SunDiscs,
+            (true, true) => Self::Dark,
+            (true, false) => Self::Uniform(radiance),
+        }
+    }
 }
 
 impl LightTable {
@@ -172,7 +206,7 @@ impl LightTable {
         emitter_light: Vec<u32>,
         environment: Option<u32>,
     ) -> Self {
-        let sun_discs = (0..lights.len() as u32)
+        let sun_discs: Vec<u32> = (0..lights.len() as u32)
             .filter(|&i| matches!(lights[i as usize], Light::SunDisc(_)))
             .collect();
         let selectable: Vec<u32> = (0..lights.len() as u32)
@@ -195,6 +229,7 @@ impl LightTable {
                 probability[i as usize] = by_position.probability_at_infinity(i);
             }
         }
+        let escaped_light = EscapedLight::of(&lights, environment, &sun_discs);
         Self {
             lights,
             selection,
@@ -205,7 +240,15 @@ impl LightTable {
             emitter_light,
             environment,
             sun_discs,
+            escaped_light,
         }
+    }
+
+    /// What an escaped ray sees: with none or one radiance for every direction, its shading
+    /// is a multiply-add at most.
+    #[inline(always)]
+    pub fn escaped_light(&self) -> EscapedLight {
+        self.escaped_light
     }
 
     /// Picks the light for next-event estimation at the point `p`: by the table's selection
@@ -536,6 +579,64 @@ mod tests {
                 });
                 let bits = |c: Option<(usize, f32)>| c.map(|(i, p)| (i, p.to_bits()));
                 assert_eq!(bits(table.choose(u, Vec3::ZERO)), bits(expected), "u = {u}");
+            }
+        }
+    }
+
+    /// `escaped_light` is what the general escaped-ray shading would find: nothing without a
+    /// sky (or under a black one), a constant sky's radiance in every direction with a light
+    /// sampling density of 0 there (so an MIS weight of 1), and the general case for a map or
+    /// a sun disc.
+    #[test]
+    fn escaped_light_is_what_every_escaped_ray_sees() {
+        let sky = |radiance: Vec3, texels: Option<Vec<Vec3>>| {
+            Light::Environment(Environment::new(&InfiniteLight {
+                radiance,
+                map: texels.map(|texels| crate::material::texture::ImageTexture {
+                    width: texels.len() as u32,
+                    height: 1,
+                    texels: std::sync::Arc::new(texels),
+                    scale: Vec2::ONE,
+                    delta: Vec2::ZERO,
+                    wrap: Default::default(),
+                }),
+                light_to_world: glam::Mat3::IDENTITY,
+            }))
+        };
+        let sun = || Light::SunDisc(SunDiscLight::new(Vec3::Z, Vec3::ONE, 0.01));
+        let radiance = Vec3::new(0.5, 1.0, 2.0);
+        let escaped = |lights: Vec<Light>| {
+            let environment = lights
+                .iter()
+                .position(|light| matches!(light, Light::Environment(_)))
+                .map(|i| i as u32);
+            let power = vec![1.0; lights.len()];
+            LightTable::new(lights, &power, LightSelection::Power, vec![], environment)
+        };
+        let grey = Some(vec![Vec3::splat(0.5); 2]);
+        let map = Some(vec![Vec3::ONE, Vec3::splat(3.0)]);
+        let cases = [
+            (vec![], EscapedLight::Dark),
+            (vec![sky(Vec3::ZERO, None)], EscapedLight::Dark),
+            (vec![sky(radiance, None)], EscapedLight::Uniform(radiance)),
+            (
+                vec![sky(radiance, grey)],
+                EscapedLight::Uniform(radiance * 0.5),
+            ),
+            (vec![sky(radiance, map)], EscapedLight::Map),
+            (vec![sun()], EscapedLight::SunDiscs),
+            (vec![sky(radiance, None), sun()], EscapedLight::SunDiscs),
+        ];
+        for (lights, expected) in cases {
+            let table = escaped(lights);
+            assert_eq!(table.escaped_light(), expected);
+            if let EscapedLight::Uniform(radiance) = expected {
+                let (_, environment) = table.environment().expect("the sky");
+                for direction in [Vec3::Z, Vec3::NEG_X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
+                    let lookup = environment.look_up(direction);
+                    assert_eq!(lookup.radiance, radiance);
+                    assert_eq!(environment.pdf_for_mis_of(&lookup), 0.0);
+                }
             }
         }
     }
