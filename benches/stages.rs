@@ -15,7 +15,7 @@ use foton::integrator::Renderer;
 use foton::integrator::accumulate::{gather_unoccluded_light, retire_finished_paths};
 use foton::integrator::batch::{PathBatch, ShadowBatch};
 use foton::integrator::shade_path::shade_path_vertices;
-use foton::integrator::start_pass::{ChunkRange, start_pass};
+use foton::integrator::start_pass::{ChunkRange, compute_first_draws, start_pass};
 use foton::integrator::trace::{trace_closest_hits, trace_shadow_rays};
 use foton::scene::build::{RenderOptions, build_world};
 use foton::scene::lxs;
@@ -28,6 +28,7 @@ struct Stages {
     world: World,
     camera: Schedule,
     trace: SystemId,
+    first_draws: SystemId,
     shade: SystemId,
     shadow: SystemId,
     gather: SystemId,
@@ -53,6 +54,7 @@ impl Stages {
         camera.add_systems(start_pass.before(CameraStage::Generate));
         Self {
             trace: world.register_system(trace_closest_hits),
+            first_draws: world.register_system(compute_first_draws),
             shade: world.register_system(shade_path_vertices),
             shadow: world.register_system(trace_shadow_rays),
             gather: world.register_system(gather_unoccluded_light),
@@ -91,7 +93,8 @@ impl Stages {
 
 fn stages(c: &mut Criterion) {
     let mut s = Stages::new();
-    let (trace, shade, shadow, gather, retire) = (s.trace, s.shade, s.shadow, s.gather, s.retire);
+    let (trace, first, shade) = (s.trace, s.first_draws, s.shade);
+    let (shadow, gather, retire) = (s.shadow, s.gather, s.retire);
     let mut group = c.benchmark_group("stages");
     group.sample_size(20);
     group.throughput(Throughput::Elements(u64::from(PATHS)));
@@ -102,7 +105,7 @@ fn stages(c: &mut Criterion) {
         b.iter_custom(|iters| s.time(iters, &[], &[trace]));
     });
     // After one diffuse bounce the live paths' rays leave the walls in all directions.
-    let bounced = [trace, shade, shadow, gather, retire];
+    let bounced = [trace, first, shade, shadow, gather, retire];
     s.prepare(&bounced);
     group.throughput(Throughput::Elements(
         s.world.resource::<PathBatch>().len as u64,
@@ -112,17 +115,17 @@ fn stages(c: &mut Criterion) {
     });
     group.throughput(Throughput::Elements(u64::from(PATHS)));
     group.bench_function("shade_path_vertices", |b| {
-        b.iter_custom(|iters| s.time(iters, &[trace], &[shade]));
+        b.iter_custom(|iters| s.time(iters, &[trace, first], &[shade]));
     });
-    s.prepare(&[trace, shade]);
+    s.prepare(&[trace, first, shade]);
     let shadow_rays = s.world.resource::<ShadowBatch>().rays;
     group.throughput(Throughput::Elements(shadow_rays as u64));
     group.bench_function("shadow_rays", |b| {
-        b.iter_custom(|iters| s.time(iters, &[trace, shade], &[shadow]));
+        b.iter_custom(|iters| s.time(iters, &[trace, first, shade], &[shadow]));
     });
     group.throughput(Throughput::Elements(u64::from(PATHS)));
     group.bench_function("accumulate", |b| {
-        b.iter_custom(|iters| s.time(iters, &[trace, shade, shadow], &[gather, retire]));
+        b.iter_custom(|iters| s.time(iters, &[trace, first, shade, shadow], &[gather, retire]));
     });
     group.finish();
 }

@@ -3,8 +3,9 @@
 //! ```text
 //! startup:  build_scene_geometry → build_light_table
 //! chunk:    start_pass → camera (generate → lens → to world)
-//! bounce:   trace_closest_hits → shade (path or raycast) → trace_shadow_rays
-//!           → gather_unoccluded_light → retire_finished_paths   (repeated while paths live)
+//! bounce:   trace_closest_hits → compute_first_draws (the first bounce only)
+//!           → shade (path or raycast) → trace_shadow_rays → gather_unoccluded_light
+//!           → retire_finished_paths   (repeated while paths live)
 //! film:     the chunks' samples splatted in chunk order, beside other chunks' stages
 //! ```
 //!
@@ -53,7 +54,9 @@ use batch::{HitBatch, PathBatch, ShadowBatch};
 use in_flight::{ChunkJob, ChunkPlan, ChunkWorld, Intake, MAX_IN_FLIGHT, trace_in_flight};
 use shade_path::{draws_no_lobe, shade_path_vertices};
 use shade_raycast::{shade_raycast_hits, shadow_rays_per_path};
-use start_pass::{CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, start_pass};
+use start_pass::{
+    CameraSampling, ChunkRange, FirstDrawsTable, PassIndex, compute_first_draws, start_pass,
+};
 use trace::{trace_closest_hits, trace_shadow_rays};
 
 /// Camera paths per chunk unless [`Renderer::set_chunk_paths`] says otherwise. At ~100 bytes of
@@ -96,6 +99,8 @@ struct Stage {
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum StageItems {
     LivePaths,
+    /// The camera paths, at the chunk's first bounce alone.
+    FirstBounce,
     /// The shadow rays the shading stage made: skipped in a bounce that made none (a scene lit
     /// only by light the paths hit, such as the furnace's sky), which saves its parallel loop.
     ShadowRays,
@@ -485,6 +490,10 @@ fn bounce_stages(integrator: IntegratorKind) -> Vec<Stage> {
     };
     vec![
         Stage::new(trace_closest_hits),
+        Stage {
+            works_on: StageItems::FirstBounce,
+            ..Stage::new(compute_first_draws)
+        },
         shade,
         Stage {
             works_on: StageItems::ShadowRays,
@@ -546,16 +555,18 @@ fn trace_bounces(
     mut times: Option<&mut [StageTime]>,
 ) -> u64 {
     let mut rays = 0;
-    loop {
+    for bounce_index in 0.. {
         let live = world.resource::<PathBatch>().len;
         if live == 0 {
-            return rays;
+            break;
         }
         rays += live as u64;
         let mut shadow_rays = 0;
         for (i, stage) in bounce.iter_mut().enumerate() {
             let items = match stage.works_on {
                 StageItems::LivePaths => live,
+                StageItems::FirstBounce if bounce_index > 0 => continue,
+                StageItems::FirstBounce => live,
                 StageItems::ShadowRays => {
                     shadow_rays = world.resource::<ShadowBatch>().rays;
                     rays += shadow_rays as u64;
@@ -563,13 +574,18 @@ fn trace_bounces(
                 }
                 StageItems::ShadowResults => live,
             };
-            if stage.works_on != StageItems::LivePaths && shadow_rays == 0 {
+            let on_shadow_rays = matches!(
+                stage.works_on,
+                StageItems::ShadowRays | StageItems::ShadowResults
+            );
+            if on_shadow_rays && shadow_rays == 0 {
                 continue;
             }
             let time = times.as_deref_mut().map(|t| &mut t[i + 1]);
             run_timed(&mut stage.schedule, world, time, items);
         }
     }
+    rays
 }
 
 /// Runs `schedule`, adding its time and `items` to `time` when stages are timed.

@@ -20,7 +20,7 @@ use crate::light::{Light, LightSample, LightTable};
 use crate::shape::geometry::NO_EMITTER;
 use crate::shape::surface::SurfacePoint;
 
-/// The ray caster's first draws computed at the chunk's start (`FirstDrawsTable`): the BSDF
+/// The ray caster's first draws computed at the chunk's first bounce (`FirstDrawsTable`): the BSDF
 /// choice, the one draw every shaded hit makes. A mirror's or glass's bounce and an area or
 /// environment light's point, which fewer hits draw, are drawn where they are made (the same
 /// values: the table's are the scalar draws bit for bit).

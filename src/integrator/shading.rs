@@ -59,8 +59,9 @@ impl ShadingInputs<'_> {
         &self.first_draws
     }
 
-    /// How many of a path's first draws the chunk's start computed (`FirstDrawsTable::draws`):
-    /// a stage's paths may read no more ([`PathColumns::slots_reading`]).
+    /// How many of a path's first draws the chunk's first bounce computed
+    /// (`FirstDrawsTable::draws`): a stage's paths may read no more
+    /// ([`PathColumns::slots_reading`]).
     pub fn draws_ahead(&self) -> u32 {
         self.first_draws.draws
     }
@@ -161,7 +162,7 @@ macro_rules! path_columns {
         pub struct PathColumns<'a> {
             $($field: &'a mut [$ty],)*
             rng: &'a mut [PathRng],
-            /// The padded draws computed for the paths in these slots at the chunk's start.
+            /// The padded draws computed for the paths in these slots at the chunk's first bounce.
             first_draws: &'a [FirstDraws],
         }
 

@@ -4,7 +4,7 @@ use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::batch::PathBatch;
+use super::batch::{HitBatch, PathBatch};
 use crate::film::PixelFilter;
 use crate::sampling::{
     DimensionSampler, Divisor, FirstDraws, PADDED_DRAWS, PassStreams, PathRng, PixelSampler,
@@ -31,9 +31,9 @@ pub struct CameraSampling {
 }
 
 /// The chunk's paths' padded draws, by their slot at the chunk's start (see
-/// `sampling::PathDraws`): computed many paths at a time here rather than one at a time where
-/// shading makes them. Sized to the chunk; left stale for the plain samplers, whose paths make
-/// no padded draw.
+/// `sampling::PathDraws`): computed many paths at a time at the chunk's first bounce
+/// ([`compute_first_draws`]) rather than one at a time where shading makes them. Sized to the
+/// chunk; left stale for the plain samplers, whose paths make no padded draw.
 #[derive(Resource)]
 pub struct FirstDrawsTable {
     /// How many of a path's first draws are read from the table (1 to [`PADDED_DRAWS`]): those
@@ -69,7 +69,6 @@ pub fn start_pass(
     chunk: Res<ChunkRange>,
     sampling: Res<CameraSampling>,
     mut batch: ResMut<PathBatch>,
-    mut first_draws: ResMut<FirstDrawsTable>,
 ) {
     let width = Divisor::new(settings.width);
     let pass = pass.0;
@@ -86,10 +85,6 @@ pub fn start_pass(
     let pixels = settings.pixels.as_deref();
     let batch = &mut *batch;
     batch.resize(chunk.count as usize);
-    let draws_ahead = first_draws.computed;
-    first_draws
-        .rows
-        .resize(chunk.count as usize, FirstDraws::default());
     // Blocks of paths, each a plain loop over its slices: the sampled fields path by path,
     // the constant ones filled (vector stores), rather than rayon zipping nine fields per path.
     (
@@ -102,15 +97,11 @@ pub fn start_pass(
         batch.pass_through.par_chunks_mut(BLOCK),
         batch.scatter_pdf.par_chunks_mut(BLOCK),
         batch.alive.par_chunks_mut(BLOCK),
-        first_draws.rows.par_chunks_mut(BLOCK),
     )
         .into_par_iter()
         .enumerate()
         .for_each(
-            |(
-                block,
-                (pixel, film, rng, throughput, radiance, depth, through, pdf, alive, draws),
-            )| {
+            |(block, (pixel, film, rng, throughput, radiance, depth, through, pdf, alive))| {
                 let first = first as usize + block * BLOCK;
                 let filter = &sampling.filter;
                 match pixels {
@@ -150,11 +141,6 @@ pub fn start_pass(
                         }
                     }
                 }
-                // None computed: the ray caster's one draw, the mix's choice, where no
-                // material mixes (its stale values go unread).
-                if padded_draws > 0 && draws_ahead != 0 {
-                    FirstDraws::compute(rng, draws, draws_ahead);
-                }
                 throughput.fill(Vec3::ONE);
                 radiance.fill(Vec3::ZERO);
                 depth.fill(0);
@@ -163,6 +149,35 @@ pub fn start_pass(
                 alive.fill(true);
             },
         );
+}
+
+/// The chunk's first bounce, after its closest hits: its paths' padded draws
+/// ([`FirstDrawsTable`]), those of [`BLOCK`] paths to a task, `sampling::FirstDraws`' lanes at
+/// a time, but for groups of lanes whose camera rays all escaped: such a path makes no draw (a
+/// sky's lookup takes none). The first bounce's slots are still the camera paths', in order.
+pub fn compute_first_draws(
+    settings: Res<RenderSettings>,
+    batch: Res<PathBatch>,
+    hits: Res<HitBatch>,
+    mut table: ResMut<FirstDrawsTable>,
+) {
+    let n = batch.len;
+    table.rows.resize(n, FirstDraws::default());
+    // None computed: the ray caster's one draw, the mix's choice, where no material mixes (its
+    // stale values go unread); none for the plain samplers, whose draws are hashed.
+    let draws = table.computed;
+    if settings.sampler != SamplerKind::Sobol || draws == 0 {
+        return;
+    }
+    (
+        batch.rng[..n].par_chunks(BLOCK),
+        hits.hit[..n].par_chunks(BLOCK),
+        table.rows.par_chunks_mut(BLOCK),
+    )
+        .into_par_iter()
+        .for_each(|(rng, hits, rows)| {
+            FirstDraws::compute(rng, rows, draws, |k| hits[k].is_some());
+        });
 }
 
 /// Samples path slots' fields for pixel `i`, at (column, row) of the film: its pixel, its film

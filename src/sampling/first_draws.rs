@@ -3,9 +3,10 @@
 //!
 //! The first vertex makes the [`PADDED_DRAWS`] draws in a fixed order (shade_path.rs): the
 //! material's choice (1D), the light's choice (1D), the point on the light (2D), the BSDF's
-//! lobe (1D) and its direction (2D). The chunk's start computes them for all its paths in
-//! lanes (the hashes and scrambles are the same integer operations lane by lane, which LLVM
-//! takes across vector registers), or the first alone where that is all an integrator's first
+//! lobe (1D) and its direction (2D). The chunk's first bounce computes them for its paths in
+//! lanes, after the closest hits, skipping the lanes whose camera rays all escaped (the hashes
+//! and scrambles are the same integer operations lane by lane, which LLVM takes across vector
+//! registers), or the first alone where that is all an integrator's first
 //! vertex surely makes (the ray caster's BSDF choice). A draw that is not there (one past those
 //! computed; a path whose first vertex passed through a null surface and makes them later,
 //! after the batch was compacted; a 2D draw where a 1D one was computed) is computed as
@@ -63,15 +64,28 @@ impl FirstDraws {
     /// the last group's missing lanes repeating its last path and dropped. Those in `draws`
     /// (bit `d` for draw `d`; at least the draws below [`PADDED_DRAWS`] set there): a
     /// [`PathDraws`] that uses the value of no other draw reads no other value (it may read
-    /// one, stale, that it then leaves unused).
-    pub fn compute(paths: &[PathRng], first: &mut [FirstDraws], draws: u32) {
+    /// one, stale, that it then leaves unused). A group none of whose paths is `needed` (by
+    /// index into `paths`) is skipped, its records left as they were: stale records are never
+    /// used, since a [`PathDraws`] reads a record only if its stream key is the path's.
+    pub fn compute(
+        paths: &[PathRng],
+        first: &mut [FirstDraws],
+        draws: u32,
+        needed: impl Fn(usize) -> bool,
+    ) {
+        let any_needed = |start: usize, len: usize| (start..start + len).any(&needed);
         let mut groups = paths.chunks_exact(LANES);
         let mut outputs = first.chunks_exact_mut(LANES);
-        for (paths, first) in (&mut groups).zip(&mut outputs) {
-            Self::lanes(paths.try_into().unwrap(), first.try_into().unwrap(), draws);
+        for (group, (paths, first)) in (&mut groups).zip(&mut outputs).enumerate() {
+            if any_needed(group * LANES, LANES) {
+                Self::lanes(paths.try_into().unwrap(), first.try_into().unwrap(), draws);
+            }
         }
+        let start = paths.len() - groups.remainder().len();
         let (paths, first) = (groups.remainder(), outputs.into_remainder());
-        if let Some(last) = paths.last() {
+        if let Some(last) = paths.last()
+            && any_needed(start, paths.len())
+        {
             let lanes: [PathRng; LANES] =
                 std::array::from_fn(|k| paths.get(k).unwrap_or(last).clone());
             let mut values = [Self::default(); LANES];
@@ -217,7 +231,7 @@ fn padded_sobol_lanes<const DRAW: u32>(
 }
 
 /// A path's stream in a shading stage: its [`PathRng`], with the padded draws computed at the
-/// chunk's start for the path that had its slot then (used when that path is this one), of
+/// chunk's first bounce for the path that had its slot then (used when that path is this one), of
 /// which it reads the first `AHEAD` (at most [`PADDED_DRAWS`]; at most the `draws` given to
 /// [`FirstDraws::compute`]): a constant, so that the path tracer's test of a draw's number is
 /// one comparison with [`PADDED_DRAWS`] as before (a count read from the table cost its shading
@@ -307,17 +321,27 @@ mod tests {
 
     /// The computed draws are the scalar ones bit for bit, 1D and 2D, over many random keys
     /// and sample indices, for whole groups of lanes and a last partial one, all five draws,
-    /// the first alone, or any set of them.
+    /// the first alone, or any set of them; with every path needed, or a few (a group of lanes
+    /// none of whose paths is needed is left untouched, the others computed whole).
     #[test]
     fn computed_draws_match_the_scalar_draws() {
+        let mut skipped = 0;
         for round in 0..2_000 {
             let paths = random_paths::<40>(round);
             let count = [40, 32, 16, 5, 1][round as usize % 5];
             // All five, the first alone, and every other set of draws.
             let draws = [ALL_DRAWS, 1, round as u32 / 10 % 32][round as usize / 5 % 3];
+            let few = round / 15 % 2 == 1;
+            let needed = |k: usize| !few || mix64(round << 8 | k as u64).is_multiple_of(16);
             let mut firsts = vec![FirstDraws::default(); count];
-            FirstDraws::compute(&paths[..count], &mut firsts, draws);
-            for (path, first) in paths.iter().zip(&firsts) {
+            FirstDraws::compute(&paths[..count], &mut firsts, draws, needed);
+            for (k, (path, first)) in paths.iter().zip(&firsts).enumerate() {
+                let group = k / LANES * LANES..(k / LANES * LANES + LANES).min(count);
+                if !group.clone().any(needed) {
+                    assert_eq!(*first, FirstDraws::default(), "{round} {k}");
+                    skipped += 1;
+                    continue;
+                }
                 assert_eq!(first.stream_key, path.counter_key());
                 let (key, index) = (path.pixel_key(), path.index_reversed());
                 for d in (0..PADDED_DRAWS).filter(|d| draws >> d & 1 == 1) {
@@ -333,6 +357,7 @@ mod tests {
                 }
             }
         }
+        assert!(skipped > 0, "some groups needed no path");
     }
 
     /// Handing out the computed draws gives a path the stream it has without them, in any
@@ -345,8 +370,9 @@ mod tests {
             let paths = random_paths::<8>(round);
             let computed = [PADDED_DRAWS, 1][round as usize % 2];
             let mut firsts = [FirstDraws::default(); 8];
-            FirstDraws::compute(&random_paths::<8>(round + 1), &mut firsts, ALL_DRAWS);
-            FirstDraws::compute(&paths, &mut firsts, (1 << computed) - 1);
+            let all = |_| true;
+            FirstDraws::compute(&random_paths::<8>(round + 1), &mut firsts, ALL_DRAWS, all);
+            FirstDraws::compute(&paths, &mut firsts, (1 << computed) - 1, all);
             for (k, path) in paths.iter().enumerate() {
                 let pattern = mix64(round + k as u64);
                 for first in [&firsts[k], &firsts[(k + 1) % 8]] {
