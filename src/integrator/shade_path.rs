@@ -43,7 +43,12 @@ pub fn shade_path_vertices(
                 continue;
             }
             match hit {
-                None => shade_miss(&scene, &mut block.paths, &mut queues.escaped, i),
+                None => match scene.lights.escaped_light() {
+                    EscapedLight::Uniform(radiance) => {
+                        shade_uniform_miss(&scene, &mut block.paths.slots(i), radiance)
+                    }
+                    _ => shade_miss(&scene, &mut block.paths, &mut queues.escaped, i),
+                },
                 Some(hit) => {
                     if let Some(ray) = shade_vertex(&scene, hit, &mut block.paths, &mut queues, i) {
                         block.shadows.emit_first(i, ray);
@@ -171,6 +176,17 @@ fn hides_emitters(scene: &Scene, path: &PathSlots) -> bool {
     scene.hide_emitters && *path.depth == 0
 }
 
+/// A path whose ray escaped under a constant sky (`radiance`): `shade_escaped`'s sum, with
+/// its MIS weight of 1 left out. Inlined into the block's loop, a multiply-add of the
+/// throughput and the radiance, where [`shade_miss`] is out of line.
+#[inline(always)]
+fn shade_uniform_miss(scene: &Scene, path: &mut PathSlots, radiance: Vec3) {
+    if !hides_emitters(scene, path) {
+        path.add_radiance(*path.throughput * radiance);
+    }
+    *path.alive = false;
+}
+
 /// The block's path `slot` (of `paths`), whose ray escaped: shaded where it stands, or queued
 /// in `escaped` (for [`EscapedQueue::finish`]) under an environment map. Apart from
 /// [`shade_vertex`], whose saves and restores of registers it does without: 1 % to 1.7 % fewer
@@ -182,13 +198,7 @@ fn shade_miss(scene: &Scene, paths: &mut PathColumns, escaped: &mut EscapedQueue
     let hidden = hides_emitters(scene, &path);
     match lights.escaped_light() {
         EscapedLight::Dark => *path.alive = false,
-        // `shade_escaped`'s sum, with its MIS weight of 1 left out.
-        EscapedLight::Uniform(radiance) => {
-            if !hidden {
-                path.add_radiance(*path.throughput * radiance);
-            }
-            *path.alive = false;
-        }
+        EscapedLight::Uniform(radiance) => shade_uniform_miss(scene, &mut path, radiance),
         EscapedLight::Map if !hidden => escaped.push(slot, *path.direction),
         EscapedLight::Map | EscapedLight::SunDiscs => {
             let sky = lights
