@@ -87,9 +87,9 @@ fn print_stages(runs: &[Vec<StageTime>]) {
         );
     }
     println!(
-        "items: camera paths for the chunk start and compute_first_draws, shadow rays for trace_shadow_rays, film samples \
-         for the splat, live paths otherwise; the splat runs on one thread beside the other \
-         stages, and with several threads the bounces of as many chunks run at once, each \
-         world's stage times summed: the times overlap"
+        "items: camera paths for the chunk start and compute_first_draws, shadow rays for \
+         trace_shadow_rays, film samples for the splat, live paths otherwise; the splat runs on \
+         one thread beside the other stages, and with several threads the bounces of as many \
+         chunks run at once, each world's stage times summed: the times overlap"
     );
 }
