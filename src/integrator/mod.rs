@@ -259,7 +259,8 @@ impl Renderer {
                 settings.seed
             ),
             format!(
-                "geometry: {} triangles, {} spheres, {} planes, {} disks; {} emissive shapes; uvs {}, shading normals {}",
+                "geometry: {} triangles, {} spheres, {} planes, {} disks; {} emissive shapes; \
+                 uvs {}, shading normals {}",
                 geometry.triangles.len(),
                 geometry.spheres.len(),
                 geometry.planes.len(),

@@ -1,7 +1,7 @@
-//! Lights: point, spot and distant lights, sun discs and the environment are entities of their own; area
-//! lights are shapes with an `AreaEmitter`. At startup [`build_light_table`] gathers them into
-//! the [`LightTable`] the shade stage samples, choosing one light for next-event estimation by
-//! the [`LightSelection`].
+//! Lights: point, spot and distant lights, sun discs and the environment are entities of their
+//! own; area lights are shapes with an `AreaEmitter`. At startup [`build_light_table`] gathers
+//! them into the [`LightTable`] the shade stage samples, choosing one light for next-event
+//! estimation by the [`LightSelection`].
 
 pub mod area;
 pub mod bvh;
