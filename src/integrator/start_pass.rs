@@ -8,7 +8,6 @@ use super::batch::{HitBatch, PathBatch};
 use crate::film::PixelFilter;
 use crate::sampling::{
     DimensionSampler, Divisor, FirstDraws, PADDED_DRAWS, PassStreams, PathRng, PixelSampler,
-    SamplerKind,
 };
 use crate::settings::RenderSettings;
 
@@ -72,13 +71,7 @@ pub fn start_pass(
 ) {
     let width = Divisor::new(settings.width);
     let pass = pass.0;
-    // The Sobol' sampler's paths take their first draws from padded Sobol' too; the plain
-    // samplers' are hashed throughout.
-    let padded_draws = match settings.sampler {
-        SamplerKind::Sobol => PADDED_DRAWS,
-        _ => 0,
-    };
-    let streams = PassStreams::new(settings.seed, pass, padded_draws);
+    let streams = PassStreams::new(settings.seed, pass, settings.sampler.padded_draws());
     let first = chunk.first;
     let pass_sampler = sampling.sampler.pass(pass);
     let sampler = pass_sampler.dimension(FILM_DIMENSION);
@@ -166,7 +159,7 @@ pub fn compute_first_draws(
     // None computed: the ray caster's one draw, the mix's choice, where no material mixes (its
     // stale values go unread); none for the plain samplers, whose draws are hashed.
     let draws = table.computed;
-    if settings.sampler != SamplerKind::Sobol || draws == 0 {
+    if settings.sampler.padded_draws() == 0 || draws == 0 {
         return;
     }
     (

@@ -18,6 +18,18 @@ pub enum SamplerKind {
     Sobol,
 }
 
+impl SamplerKind {
+    /// How many of a path's first draws come from padded Sobol' (`padded_sobol.rs`): the Sobol'
+    /// sampler's paths take their first [`PADDED_DRAWS`](super::PADDED_DRAWS) draws from it
+    /// too; the plain samplers' are hashed throughout.
+    pub fn padded_draws(self) -> u32 {
+        match self {
+            SamplerKind::Sobol => super::PADDED_DRAWS,
+            _ => 0,
+        }
+    }
+}
+
 /// Generates the 2D samples of every pixel as a pure function of (pixel, sample index,
 /// dimension), so any thread can compute any sample.
 ///
