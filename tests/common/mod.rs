@@ -1,5 +1,4 @@
 //! Scenes built in code for the integration tests, and small image helpers.
-#![allow(dead_code)]
 
 pub mod bsdf_estimates;
 pub mod bsdf_outputs;
