@@ -2,19 +2,19 @@
 //! [`PathDraws`] in place of the one-at-a-time scalar ones (`padded_sobol.rs`).
 //!
 //! The first vertex makes the [`PADDED_DRAWS`] draws in a fixed order (shade_path.rs): the
-//! material's choice (1D), the light's choice (1D), the point on the light (2D), the BSDF's
-//! lobe (1D) and its direction (2D). The chunk's first bounce computes them for its paths in
-//! lanes, after the closest hits, skipping the lanes whose camera rays all escaped (the hashes
+//! material's choice (1D), the light's choice (1D), the point on the light (2D), the BSDF's lobe
+//! (1D) and its direction (2D). The chunk's first bounce computes them for its paths in lanes,
+//! after the closest hits, skipping the groups of lanes whose camera rays all escaped (the hashes
 //! and scrambles are the same integer operations lane by lane, which LLVM takes across vector
-//! registers), or the first alone where that is all an integrator's first vertex surely makes
-//! (the ray caster's BSDF choice). A draw that is not there (one past those computed; a path
-//! whose first vertex passed through a null surface and makes them later, after the batch was
-//! compacted; a 2D draw where a 1D one was computed) is computed as before. Every value is a pure function of (pixel key, sample index, draw), so the table's
-//! values are bit for bit the scalar ones. A draw whose value nothing in the scene uses (the
-//! material's choice where no material mixes, the light's choice or point where there is no
-//! choice or no light to sample, the lobe where no BSDF has two) is left out: a reader may
-//! read its stale value, or count the draw without reading it ([`PathDraws::skip`]), but never
-//! uses it.
+//! registers), or the first alone where that is all an integrator's first vertex surely makes (the
+//! ray caster's BSDF choice). A draw that is not there (one past those computed; a path whose first
+//! vertex passed through a null surface and makes them later, after the batch was compacted; a 2D
+//! draw where a 1D one was computed) is computed as before. Every value is a pure function of
+//! (pixel key, sample index, draw), so the table's values are bit for bit the scalar ones. A draw
+//! whose value nothing in the scene uses (the material's choice where no material mixes, the
+//! light's choice or point where there is no choice or no light to sample, the lobe where no BSDF
+//! has two) is left out: a reader may read its stale value, or count the draw without reading it
+//! ([`PathDraws::skip`]), but never uses it.
 //!
 //! A 1D draw is the first coordinate of the 2D draw of the same number (both scramble the
 //! shuffled index's radical inverse with the same seed), so a 2D draw's x serves a 1D request.
