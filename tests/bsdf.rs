@@ -12,9 +12,10 @@ use foton::bsdf::oren_nayar::oren_nayar_ab;
 use foton::bsdf::{Bsdf, CoatedGlossy, ConductorFresnel, RoughConductor, SmoothConductor};
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use rand_xoshiro::rand_core::{Rng, SeedableRng};
+use rand_xoshiro::rand_core::SeedableRng;
 use std::f32::consts::PI;
 
+use crate::common::bsdf_estimates::uniform;
 use crate::common::bsdf_outputs::assert_finite_outputs;
 use crate::common::chi_square::DirectionGrid;
 
@@ -22,10 +23,6 @@ const N: usize = 100_000;
 
 fn rng(seed: u64) -> Xoshiro256PlusPlus {
     Xoshiro256PlusPlus::seed_from_u64(seed)
-}
-
-fn uniform(r: &mut Xoshiro256PlusPlus) -> f32 {
-    (r.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }
 
 fn uniform2(r: &mut Xoshiro256PlusPlus) -> Vec2 {

@@ -7,14 +7,10 @@ use foton::bsdf::oren_nayar::oren_nayar_ab;
 use foton::bsdf::{Bsdf, DiffuseTranslucent};
 use glam::{Vec2, Vec3};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use rand_xoshiro::rand_core::{Rng, SeedableRng};
+use rand_xoshiro::rand_core::SeedableRng;
 
+use crate::common::bsdf_estimates::uniform;
 use crate::common::chi_square::DirectionGrid;
-
-/// A uniform number in [0, 1) from the top 24 bits.
-fn uniform(r: &mut Xoshiro256PlusPlus) -> f32 {
-    (r.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
-}
 
 fn translucent(reflectance: Vec3, transmittance: Vec3) -> Bsdf {
     Bsdf::DiffuseTranslucent(DiffuseTranslucent {
