@@ -50,6 +50,8 @@ pub struct PixelSampler {
     /// `hash_words(&[seed, dimension])` for the dimensions Sobol' tabulates: the prefix of each
     /// pixel's scramble seeds.
     dimension_keys: [u64; SOBOL_DIMENSIONS / 2],
+    /// `hash_words(&[seed])`: the prefix of the plain samplers' keys.
+    seed_key: u64,
 }
 
 /// The sampler for one sample index (one pass over the image), with what depends only on the
@@ -96,6 +98,7 @@ impl PixelSampler {
             n: Divisor::new(n),
             strata: Divisor::new(m * n),
             dimension_keys: std::array::from_fn(|d| hash_words(&[seed, d as u64])),
+            seed_key: hash_words(&[seed]),
         }
     }
 
@@ -154,7 +157,7 @@ impl DimensionSampler<'_> {
     pub fn sample_lanes<const N: usize>(&self, pixels: [u32; N]) -> [Vec2; N] {
         match self.sobol {
             Some(sobol) => sobol.sample_lanes(pixels),
-            None => pixels.map(|pixel| self.pass.sample_2d(pixel, self.dimension)),
+            None => self.pass.plain_lanes(pixels, self.dimension),
         }
     }
 }
@@ -203,27 +206,37 @@ impl<'a> PassSampler<'a> {
 
     /// A 2D sample in [0,1)^2 for this pass's sample of `pixel` in `dimension`.
     pub fn sample_2d(&self, pixel: u32, dimension: u32) -> Vec2 {
-        let sampler = self.sampler;
-        if sampler.kind == SamplerKind::Sobol {
+        if self.sampler.kind == SamplerKind::Sobol {
             return self.owen_sobol(pixel, dimension);
         }
+        let [p] = self.plain_lanes([pixel], dimension);
+        p
+    }
+
+    /// The plain samplers' samples of `N` pixels in `dimension`, each keyed by
+    /// `hash_words(&[seed, pixel, dimension, epoch])`. Each step is done for all the pixels
+    /// before the next (the hashes' 64-bit products, the permutations' rounds), so that the
+    /// compiler can take it across the lanes of vector registers; each pixel's values are those
+    /// it has alone.
+    #[inline(always)]
+    fn plain_lanes<const N: usize>(&self, pixels: [u32; N], dimension: u32) -> [Vec2; N] {
+        let sampler = self.sampler;
         let s = self.s;
-        let key = hash_words(&[
-            sampler.seed,
-            u64::from(pixel),
-            u64::from(dimension),
-            u64::from(self.epoch),
-        ]);
-        let p = match sampler.kind {
+        let keys = pixels.map(|pixel| hash_extend(sampler.seed_key, u64::from(pixel)));
+        let keys = keys.map(|key| hash_extend(key, u64::from(dimension)));
+        let keys = keys.map(|key| hash_extend(key, u64::from(self.epoch)));
+        let points = match sampler.kind {
             SamplerKind::Independent => {
-                let h = hash_words(&[key, u64::from(s)]);
-                Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32))
+                let h = keys.map(|key| hash_words(&[key, u64::from(s)]));
+                h.map(|h| Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32)))
             }
-            SamplerKind::Stratified => self.jittered(key),
-            SamplerKind::MultiJittered => cmj(s, sampler.spp, sampler.m, sampler.n, fold32(key)),
-            SamplerKind::Sobol => unreachable!("handled above"),
+            SamplerKind::Stratified => self.jittered(keys),
+            SamplerKind::MultiJittered => {
+                cmj(s, (sampler.spp, sampler.m, sampler.n), keys.map(fold32))
+            }
+            SamplerKind::Sobol => unreachable!("Sobol' has its own lanes"),
         };
-        p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
+        points.map(|p| p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON)))
     }
 
     /// Owen-scrambled Sobol' (see [`SobolDimension::sample`]).
@@ -248,14 +261,19 @@ impl<'a> PassSampler<'a> {
     }
 
     /// Jittered sampling: sample `s` goes to stratum permute(s) of the m x n grid, the
-    /// permutation seeded per (pixel, dimension, epoch) so that dimensions are decorrelated.
-    fn jittered(&self, key: u64) -> Vec2 {
+    /// permutation seeded per (pixel, dimension, epoch) (`keys`, one a pixel) so that
+    /// dimensions are decorrelated.
+    #[inline(always)]
+    fn jittered<const N: usize>(&self, keys: [u64; N]) -> [Vec2; N] {
         let (s, m, n) = (self.s, self.sampler.m, self.sampler.n);
-        let stratum = permute(s, self.sampler.strata, fold32(key));
-        let h = hash_words(&[key, u64::from(s)]);
-        let jitter = Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32));
-        (Vec2::new(m.remainder(stratum) as f32, m.quotient(stratum) as f32) + jitter)
-            / Vec2::new(m.get() as f32, n.get() as f32)
+        let strata = permute([s; N], self.sampler.strata, keys.map(fold32));
+        let h = keys.map(|key| hash_words(&[key, u64::from(s)]));
+        std::array::from_fn(|k| {
+            let jitter = Vec2::new(unit_f32(h[k] as u32), unit_f32((h[k] >> 32) as u32));
+            let stratum = strata[k];
+            (Vec2::new(m.remainder(stratum) as f32, m.quotient(stratum) as f32) + jitter)
+                / Vec2::new(m.get() as f32, n.get() as f32)
+        })
     }
 }
 
@@ -263,51 +281,75 @@ impl<'a> PassSampler<'a> {
 /// Sampling", Pixar Technical Memo 13-01, §5 (final listing, aspect a = 1). Sample `s` (already
 /// in 0..N) is shuffled, the columns and rows of the m x n grid are permuted as wholes
 /// ("correlated" shuffles), and the result is a Latin hypercube in x and y at resolution N.
-fn cmj(s: u32, big_n: Divisor, m: Divisor, n: Divisor, p: u32) -> Vec2 {
-    let s = permute(s, big_n, p.wrapping_mul(0x5163_3e2d));
-    let sx = permute(m.remainder(s), m, p.wrapping_mul(0x68bc_21eb));
-    let sy = permute(m.quotient(s), n, p.wrapping_mul(0x02e5_be93));
-    let jx = randfloat(s, p.wrapping_mul(0x967a_889b));
-    let jy = randfloat(s, p.wrapping_mul(0x368c_c8b7));
-    Vec2::new(
-        (sx as f32 + (sy as f32 + jx) / n.get() as f32) / m.get() as f32,
-        (s as f32 + jy) / big_n.get() as f32,
-    )
+/// `N` pixels at once, each pixel's pattern selected by its `p`.
+#[inline(always)]
+fn cmj<const N: usize>(
+    s: u32,
+    (big_n, m, n): (Divisor, Divisor, Divisor),
+    p: [u32; N],
+) -> [Vec2; N] {
+    let times = |c: u32| p.map(|p| p.wrapping_mul(c));
+    let s = permute([s; N], big_n, times(0x5163_3e2d));
+    let sx = permute(s.map(|s| m.remainder(s)), m, times(0x68bc_21eb));
+    let sy = permute(s.map(|s| m.quotient(s)), n, times(0x02e5_be93));
+    let (px, py) = (times(0x967a_889b), times(0x368c_c8b7));
+    std::array::from_fn(|k| {
+        let (jx, jy) = (randfloat(s[k], px[k]), randfloat(s[k], py[k]));
+        Vec2::new(
+            (sx[k] as f32 + (sy[k] as f32 + jx) / n.get() as f32) / m.get() as f32,
+            (s[k] as f32 + jy) / big_n.get() as f32,
+        )
+    })
 }
 
 /// Kensler 2013, §3: the element at `i` of a pseudo-random permutation of 0..l selected by `p`.
-/// A hash that is a bijection on the next power of two, with cycle-walking down to l.
-fn permute(mut i: u32, length: Divisor, p: u32) -> u32 {
+/// A hash that is a bijection on the next power of two, with cycle-walking down to l. `N` at
+/// once: each round is done for every lane, and a lane that has reached 0..l keeps its value
+/// while the others walk on (a select, so that the rounds stay in vector lanes).
+#[inline(always)]
+fn permute<const N: usize>(i: [u32; N], length: Divisor, p: [u32; N]) -> [u32; N] {
     let l = length.get();
     if l <= 1 {
-        return 0;
+        return [0; N];
     }
     // All ones below the highest set bit of l - 1.
     let w = u32::MAX >> (l - 1).leading_zeros();
+    let (mut i, mut done) = (i, [false; N]);
     loop {
-        i ^= p;
-        i = i.wrapping_mul(0xe170_893d);
-        i ^= p >> 16;
-        i ^= (i & w) >> 4;
-        i ^= p >> 8;
-        i = i.wrapping_mul(0x0929_eb3f);
-        i ^= p >> 23;
-        i ^= (i & w) >> 1;
-        i = i.wrapping_mul(1 | p >> 27);
-        i = i.wrapping_mul(0x6935_fa69);
-        i ^= (i & w) >> 11;
-        i = i.wrapping_mul(0x74dc_b303);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0x9e50_1cc3);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0xc860_a3df);
-        i &= w;
-        i ^= i >> 5;
-        if i < l {
+        let next: [u32; N] = std::array::from_fn(|k| permute_round(i[k], w, p[k]));
+        for k in 0..N {
+            i[k] = if done[k] { i[k] } else { next[k] };
+            done[k] |= next[k] < l;
+        }
+        if done.iter().all(|&done| done) {
             break;
         }
     }
-    length.remainder(i.wrapping_add(p))
+    std::array::from_fn(|k| length.remainder(i[k].wrapping_add(p[k])))
+}
+
+/// One round of [`permute`]'s hash: a bijection of 0..=w (w + 1 a power of two).
+#[inline(always)]
+fn permute_round(mut i: u32, w: u32, p: u32) -> u32 {
+    i ^= p;
+    i = i.wrapping_mul(0xe170_893d);
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i = i.wrapping_mul(0x0929_eb3f);
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i = i.wrapping_mul(1 | p >> 27);
+    i = i.wrapping_mul(0x6935_fa69);
+    i ^= (i & w) >> 11;
+    i = i.wrapping_mul(0x74dc_b303);
+    i ^= (i & w) >> 2;
+    i = i.wrapping_mul(0x9e50_1cc3);
+    i ^= (i & w) >> 2;
+    i = i.wrapping_mul(0xc860_a3df);
+    i &= w;
+    i ^= i >> 5;
+    i
 }
 
 /// Kensler 2013, §3: a hash of (i, p) to a float in [0, 1).
@@ -342,11 +384,55 @@ mod tests {
             for p in [0, 1, 0xdead_beef] {
                 let mut seen = vec![false; l as usize];
                 for i in 0..l {
-                    let j = permute(i, Divisor::new(l), p) as usize;
+                    let [j] = permute([i], Divisor::new(l), [p]);
+                    let j = j as usize;
                     assert!(!seen[j]);
                     seen[j] = true;
                 }
             }
+        }
+    }
+
+    /// Lanes that reach 0..l after different numbers of rounds each keep their own value:
+    /// eight at once against the cycle walk one at a time.
+    #[test]
+    fn permute_lanes_walk_each_lane_alone() {
+        let walk = |mut i: u32, l: u32, p: u32| {
+            let w = u32::MAX >> (l - 1).leading_zeros();
+            loop {
+                i = permute_round(i, w, p);
+                if i < l {
+                    return (i.wrapping_add(p)) % l;
+                }
+            }
+        };
+        for l in [3, 5, 17, 100] {
+            let p: [u32; 8] = std::array::from_fn(|k| 0x9e37_79b9u32.wrapping_mul(k as u32 + 1));
+            for i in 0..l {
+                let lanes = permute([i; 8], Divisor::new(l), p);
+                for (lane, p) in lanes.into_iter().zip(p) {
+                    assert_eq!(lane, walk(i, l, p), "l {l}, i {i}, p {p:#x}");
+                }
+            }
+        }
+    }
+
+    /// The independent sampler's point is the hash of its key and the sample index, its key
+    /// `hash_words(&[seed, pixel, dimension, epoch])` (the seed's step taken once ahead).
+    #[test]
+    fn independent_samples_hash_seed_pixel_dimension_and_epoch() {
+        let spp = 4;
+        let sampler = PixelSampler::new(SamplerKind::Independent, spp, 9);
+        for (pixel, sample_index, dimension) in [(0, 0, 0), (7, 5, 1), (u32::MAX, 11, 3)] {
+            let (s, epoch) = (sample_index % spp, sample_index / spp);
+            let key = hash_words(&[9, u64::from(pixel), u64::from(dimension), u64::from(epoch)]);
+            let h = hash_words(&[key, u64::from(s)]);
+            let expected = Vec2::new(unit_f32(h as u32), unit_f32((h >> 32) as u32));
+            let sample = sampler.sample_2d(pixel, sample_index, dimension);
+            assert_eq!(
+                sample,
+                expected.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
+            );
         }
     }
 
