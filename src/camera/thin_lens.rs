@@ -17,6 +17,7 @@ use super::{
 use crate::integrator::batch::PathBatch;
 use crate::integrator::lanes::{F8, concentric_disk};
 use crate::integrator::start_pass::{CameraSampling, LENS_DIMENSION, PassIndex};
+use crate::sampling::{DimensionLanes, SampleLanes};
 
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct ThinLens {
@@ -84,34 +85,43 @@ fn focus_through_thin_lens(
     let pose = pose.0;
     let pass_sampler = sampling.sampler.pass(pass.0);
     let sampler = pass_sampler.dimension(LENS_DIMENSION);
-    let batch = &mut *batch;
-    let n = batch.len;
-    (
-        batch.pixel[..n].par_chunks(LANES),
-        batch.origin[..n].par_chunks_mut(LANES),
-        batch.direction[..n].par_chunks_mut(LANES),
-    )
-        .into_par_iter()
-        .with_min_len(1024 / LANES)
-        .for_each(|(pixels, origins, directions)| {
-            let group = (pixels.try_into(), origins.try_into(), directions.try_into());
-            if let (Ok(&pixels), Ok(origins), Ok(directions)) = group {
-                lens.focus_group(pose, sampler.sample_lanes(pixels), origins, directions);
-            } else {
-                // The batch's last group, short: its missing lanes are computed from pixel 0's
-                // sample and a zero ray, and dropped.
-                let len = pixels.len();
-                let (mut lane_origins, mut lane_directions) =
-                    (short_group(origins), short_group(directions));
-                let samples = sampler.sample_lanes(short_group(pixels));
-                lens.focus_group(pose, samples, &mut lane_origins, &mut lane_directions);
-                origins.copy_from_slice(&lane_origins[..len]);
-                directions.copy_from_slice(&lane_directions[..len]);
-            }
-        });
+    match sampler.lanes() {
+        DimensionLanes::Sobol(lanes) => lens.focus_batch(pose, &lanes, &mut batch),
+        DimensionLanes::Plain(lanes) => lens.focus_batch(pose, &lanes, &mut batch),
+    }
 }
 
 impl ThinLens {
+    /// Moves the batch's camera rays onto the lens, their lens points sampled by `lanes`
+    /// [`LANES`] paths at a time. Generic over the sampler's kind, matched once per batch (see
+    /// `DimensionSampler::lanes`).
+    fn focus_batch<S: SampleLanes>(self, pose: Affine3A, lanes: &S, batch: &mut PathBatch) {
+        let n = batch.len;
+        (
+            batch.pixel[..n].par_chunks(LANES),
+            batch.origin[..n].par_chunks_mut(LANES),
+            batch.direction[..n].par_chunks_mut(LANES),
+        )
+            .into_par_iter()
+            .with_min_len(1024 / LANES)
+            .for_each(|(pixels, origins, directions)| {
+                let group = (pixels.try_into(), origins.try_into(), directions.try_into());
+                if let (Ok(&pixels), Ok(origins), Ok(directions)) = group {
+                    self.focus_group(pose, lanes.sample_lanes(pixels), origins, directions);
+                } else {
+                    // The batch's last group, short: its missing lanes are computed from pixel
+                    // 0's sample and a zero ray, and dropped.
+                    let len = pixels.len();
+                    let (mut lane_origins, mut lane_directions) =
+                        (short_group(origins), short_group(directions));
+                    let samples = lanes.sample_lanes(short_group(pixels));
+                    self.focus_group(pose, samples, &mut lane_origins, &mut lane_directions);
+                    origins.copy_from_slice(&lane_origins[..len]);
+                    directions.copy_from_slice(&lane_directions[..len]);
+                }
+            });
+    }
+
     /// [`ThinLens::focus`] of a group of `LANES` camera-space rays in the batch's columns,
     /// written back in world space.
     #[inline(always)]

@@ -7,7 +7,8 @@ use rayon::prelude::*;
 use super::batch::{HitBatch, PathBatch};
 use crate::film::PixelFilter;
 use crate::sampling::{
-    DimensionSampler, Divisor, FirstDraws, PADDED_DRAWS, PassStreams, PathRng, PixelSampler,
+    DimensionLanes, DimensionSampler, Divisor, FirstDraws, PADDED_DRAWS, PassStreams, PathRng,
+    PixelSampler, SampleLanes,
 };
 use crate::settings::RenderSettings;
 
@@ -98,30 +99,15 @@ pub fn start_pass(
                 let first = first as usize + block * BLOCK;
                 let filter = &sampling.filter;
                 match pixels {
-                    // Path `first + k` of the pass is pixel `first + k`: its column and row
-                    // are counted along, one division per block rather than per path.
-                    // The pixels' samples and streams are hashed LANES at a time (the last
-                    // group's lanes past the block are computed and dropped).
+                    // Path `first + k` of the pass is pixel `first + k`.
                     None => {
-                        let mut column = width.remainder(first as u32);
-                        let mut row = width.quotient(first as u32);
-                        let groups = pixel.chunks_mut(LANES).zip(film.chunks_mut(LANES));
-                        for (group, ((pixel, film), rng)) in
-                            groups.zip(rng.chunks_mut(LANES)).enumerate()
-                        {
-                            let first = (first + group * LANES) as u32;
-                            let pixels: [u32; LANES] = std::array::from_fn(|k| first + k as u32);
-                            let offsets = sampler.sample_lanes(pixels);
-                            let slots = pixel.iter_mut().zip(film).zip(rng);
-                            let lanes = pixels.iter().zip(offsets).zip(streams.paths(pixels));
-                            for (((pixel, film), rng), ((&i, u), stream)) in slots.zip(lanes) {
-                                *pixel = i;
-                                *film = film_position(filter, (column, row), u);
-                                *rng = stream;
-                                column += 1;
-                                if column == width.get() {
-                                    (column, row) = (0, row + 1);
-                                }
+                        let run = (pixel, film, rng);
+                        match sampler.lanes() {
+                            DimensionLanes::Sobol(lanes) => {
+                                start_run(&lanes, filter, width, streams, first, run)
+                            }
+                            DimensionLanes::Plain(lanes) => {
+                                start_run(&lanes, filter, width, streams, first, run)
                             }
                         }
                     }
@@ -171,6 +157,42 @@ pub fn compute_first_draws(
         .for_each(|(rng, hits, rows)| {
             FirstDraws::compute(rng, rows, draws, |k| hits[k].is_some());
         });
+}
+
+/// Samples the fields of the paths of pixels `first..` (a run of the film's pixels, as many as
+/// `pixel` holds): their pixels, film positions (`lanes`' samples) and random streams. Their
+/// column and row are counted along, one division per run rather than per path; the samples
+/// and streams are hashed [`LANES`] at a time (the last group's lanes past the run are computed
+/// and dropped). Generic over the sampler's kind, matched once per run (see
+/// `DimensionSampler::lanes`).
+#[inline(always)]
+fn start_run<S: SampleLanes>(
+    lanes: &S,
+    filter: &PixelFilter,
+    width: Divisor,
+    streams: PassStreams,
+    first: usize,
+    (pixel, film, rng): (&mut [u32], &mut [Vec2], &mut [PathRng]),
+) {
+    let mut column = width.remainder(first as u32);
+    let mut row = width.quotient(first as u32);
+    let groups = pixel.chunks_mut(LANES).zip(film.chunks_mut(LANES));
+    for (group, ((pixel, film), rng)) in groups.zip(rng.chunks_mut(LANES)).enumerate() {
+        let first = (first + group * LANES) as u32;
+        let pixels: [u32; LANES] = std::array::from_fn(|k| first + k as u32);
+        let offsets = lanes.sample_lanes(pixels);
+        let slots = pixel.iter_mut().zip(film).zip(rng);
+        let lanes = pixels.iter().zip(offsets).zip(streams.paths(pixels));
+        for (((pixel, film), rng), ((&i, u), stream)) in slots.zip(lanes) {
+            *pixel = i;
+            *film = film_position(filter, (column, row), u);
+            *rng = stream;
+            column += 1;
+            if column == width.get() {
+                (column, row) = (0, row + 1);
+            }
+        }
+    }
 }
 
 /// Samples path slots' fields for pixel `i`, at (column, row) of the film: its pixel, its film

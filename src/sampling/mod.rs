@@ -21,7 +21,9 @@ pub use divisor::Divisor;
 pub use first_draws::{
     FirstDraws, LIGHT_CHOICE_DRAW, LIGHT_POINT_DRAW, LOBE_DRAW, MATERIAL_CHOICE_DRAW, PathDraws,
 };
-pub use pixel_sampler::{DimensionSampler, PassSampler, PixelSampler, SamplerKind};
+pub use pixel_sampler::{
+    DimensionLanes, DimensionSampler, PassSampler, PixelSampler, SampleLanes, SamplerKind,
+};
 pub use rng::{PADDED_DRAWS, PassStreams, PathRng};
 
 /// The largest f32 below 1 (1 - 2^-24): samples are clamped to it so that they stay in [0, 1).
