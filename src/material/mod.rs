@@ -313,12 +313,7 @@ impl MaterialTable {
     /// The BSDF of material `id` at `sp`; `None` for `null` (the ray passes through).
     /// `choice` in [0,1) picks the side of each mix (and is remapped for the next one);
     /// `bump` is called with each bump map met on the way, outermost first, and may change the
-    /// normal of `sp` (which the BSDF's textures then see). Out of line: generic over `bump`,
-    /// it is compiled into its caller's codegen unit, where LLVM inlined it or not as the
-    /// partition fell; inlined into the path tracer's shading, which calls it only for the
-    /// materials that vary, it cost the shading 0.6 % to 3.4 % more instructions at every vertex
-    /// (callgrind, x86-64-v3: dof-sky and the Cornell box, stop 45).
-    #[inline(never)]
+    /// normal of `sp` (which the BSDF's textures then see).
     pub fn bsdf_at(
         &self,
         id: u32,
