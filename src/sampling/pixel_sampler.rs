@@ -156,8 +156,8 @@ impl DimensionSampler<'_> {
     /// (the same values to the bit as [`DimensionSampler::sample`]). A caller that samples many
     /// groups of pixels matches it once, outside its loop, and runs the loop with each kind, so
     /// that each copy of the loop has its kind's lanes inlined. (Matched for every group, the
-    /// two kinds' results met in memory: the default sampler's camera stage about 9 % slower on
-    /// dof-sky, AVX-512 build.)
+    /// two kinds' results met in memory, and the default sampler's camera stage ran slower in
+    /// the native build: docs/speed.md, stop 45.)
     pub fn lanes(&self) -> DimensionLanes<'_> {
         match self.sobol {
             Some(sobol) => DimensionLanes::Sobol(sobol),
