@@ -195,9 +195,17 @@ impl SampleLanes for PlainDimension<'_> {
 }
 
 impl SampleLanes for SobolDimension {
+    /// [`SobolDimension::sample`] of `N` pixels, each step done for all of them before the
+    /// next, so that the compiler can take it across the lanes of vector registers (32-bit
+    /// multiplies and bit reversals eight at a time with AVX2). Each word is reversed on its
+    /// own: reversing the 64 bits of (x, y) gives (rev y, rev x), the same words.
     #[inline(always)]
     fn sample_lanes<const N: usize>(&self, pixels: [u32; N]) -> [Vec2; N] {
-        self.lanes(pixels)
+        let seeds = pixels.map(|pixel| hash_extend(self.prefix, u64::from(pixel)));
+        let [x, y] = self.reversed;
+        let xs = seeds.map(|seeds| owen_scramble_reversed(x, seeds as u32).reverse_bits());
+        let ys = seeds.map(|seeds| owen_scramble_reversed(y, (seeds >> 32) as u32).reverse_bits());
+        std::array::from_fn(|k| Vec2::new(unit_f32(xs[k]), unit_f32(ys[k])))
     }
 }
 
@@ -216,19 +224,6 @@ impl SobolDimension {
         // Both words reversed at once: reversing the 64 bits of (x, y) gives (rev y, rev x).
         let both = (u64::from(x) << 32 | u64::from(y)).reverse_bits();
         Vec2::new(unit_f32(both as u32), unit_f32((both >> 32) as u32))
-    }
-
-    /// [`SobolDimension::sample`] of `N` pixels, each step done for all of them before the
-    /// next, so that the compiler can take it across the lanes of vector registers (32-bit
-    /// multiplies and bit reversals eight at a time with AVX2). Each word is reversed on its
-    /// own: reversing the 64 bits of (x, y) gives (rev y, rev x), the same words.
-    #[inline(always)]
-    fn lanes<const N: usize>(self, pixels: [u32; N]) -> [Vec2; N] {
-        let seeds = pixels.map(|pixel| hash_extend(self.prefix, u64::from(pixel)));
-        let [x, y] = self.reversed;
-        let xs = seeds.map(|seeds| owen_scramble_reversed(x, seeds as u32).reverse_bits());
-        let ys = seeds.map(|seeds| owen_scramble_reversed(y, (seeds >> 32) as u32).reverse_bits());
-        std::array::from_fn(|k| Vec2::new(unit_f32(xs[k]), unit_f32(ys[k])))
     }
 }
 
