@@ -250,8 +250,7 @@ impl CameraRays<'_, '_> {
 }
 
 /// Rays traced from the camera's centre `origin`, `directions` writing their directions for
-/// `LANES` film positions at a time (the batch's last group filled out by [`short_group`],
-/// its extra rays dropped). The origins are stored with the directions rather than
+/// `LANES` film positions at a time. The origins are stored with the directions rather than
 /// filled beforehand: one pass over the columns.
 fn write_rays_from_centre(
     batch: &mut PathBatch,
@@ -259,24 +258,43 @@ fn write_rays_from_centre(
     directions: impl Fn(&[Vec2; LANES], &mut [Vec3; LANES]) + Sync,
 ) {
     let n = batch.len;
+    let rays = (&mut batch.origin[..n], &mut batch.direction[..n]);
+    for_each_ray_group(&batch.film_position[..n], rays, |films, origins, rays| {
+        *origins = [origin; LANES];
+        directions(films, rays);
+    });
+}
+
+/// Runs `rays` on the batch's paths `LANES` at a time, in parallel: each group's values of a
+/// per-path column `inputs` and its origins and directions, which it may change. The batch's
+/// last group, short, is filled out by [`short_group`] and its extra lanes' results dropped.
+pub(super) fn for_each_ray_group<T: Copy + Default + Sync>(
+    inputs: &[T],
+    (origins, directions): (&mut [Vec3], &mut [Vec3]),
+    rays: impl Fn(&[T; LANES], &mut [Vec3; LANES], &mut [Vec3; LANES]) + Sync,
+) {
     (
-        batch.film_position[..n].par_chunks(LANES),
-        batch.origin[..n].par_chunks_mut(LANES),
-        batch.direction[..n].par_chunks_mut(LANES),
+        inputs.par_chunks(LANES),
+        origins.par_chunks_mut(LANES),
+        directions.par_chunks_mut(LANES),
     )
         .into_par_iter()
         .with_min_len(1024 / LANES)
-        .for_each(|(films, origins, rays)| {
-            let group = (films.try_into(), origins.try_into(), rays.try_into());
-            if let (Ok(films), Ok(origins), Ok(rays)) = group {
-                let origins: &mut [Vec3; LANES] = origins;
-                *origins = [origin; LANES];
-                directions(films, rays);
+        .for_each(|(inputs, origins, directions)| {
+            let group = (inputs.try_into(), origins.try_into(), directions.try_into());
+            if let (Ok(inputs), Ok(origins), Ok(directions)) = group {
+                rays(inputs, origins, directions);
             } else {
-                let mut lanes = [Vec3::ZERO; LANES];
-                directions(&short_group(films), &mut lanes);
-                origins.fill(origin);
-                rays.copy_from_slice(&lanes[..films.len()]);
+                let len = inputs.len();
+                let (mut lane_origins, mut lane_directions) =
+                    (short_group(origins), short_group(directions));
+                rays(
+                    &short_group(inputs),
+                    &mut lane_origins,
+                    &mut lane_directions,
+                );
+                origins.copy_from_slice(&lane_origins[..len]);
+                directions.copy_from_slice(&lane_directions[..len]);
             }
         });
 }

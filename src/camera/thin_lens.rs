@@ -7,12 +7,11 @@
 
 use bevy_ecs::prelude::*;
 use glam::{Affine3A, Vec2, Vec3};
-use rayon::prelude::*;
 
 use super::pinhole::{PERSPECTIVE_FOV, Pinhole};
 use super::{
-    CameraPose, CameraSetup, CameraStage, CameraType, LANES, Lanes3, lanes_to_world, load_vec2,
-    load_vec3, points_to_world, register_for, short_group, store_vec3,
+    CameraPose, CameraSetup, CameraStage, CameraType, LANES, Lanes3, for_each_ray_group,
+    lanes_to_world, load_vec2, load_vec3, points_to_world, register_for, store_vec3,
 };
 use crate::integrator::batch::PathBatch;
 use crate::integrator::lanes::{F8, concentric_disk};
@@ -97,29 +96,10 @@ impl ThinLens {
     /// `DimensionSampler::lanes`).
     fn focus_batch<S: SampleLanes>(self, pose: Affine3A, lanes: &S, batch: &mut PathBatch) {
         let n = batch.len;
-        (
-            batch.pixel[..n].par_chunks(LANES),
-            batch.origin[..n].par_chunks_mut(LANES),
-            batch.direction[..n].par_chunks_mut(LANES),
-        )
-            .into_par_iter()
-            .with_min_len(1024 / LANES)
-            .for_each(|(pixels, origins, directions)| {
-                let group = (pixels.try_into(), origins.try_into(), directions.try_into());
-                if let (Ok(&pixels), Ok(origins), Ok(directions)) = group {
-                    self.focus_group(pose, lanes.sample_lanes(pixels), origins, directions);
-                } else {
-                    // The batch's last group, short: its missing lanes are computed from pixel
-                    // 0's sample and a zero ray, and dropped.
-                    let len = pixels.len();
-                    let (mut lane_origins, mut lane_directions) =
-                        (short_group(origins), short_group(directions));
-                    let samples = lanes.sample_lanes(short_group(pixels));
-                    self.focus_group(pose, samples, &mut lane_origins, &mut lane_directions);
-                    origins.copy_from_slice(&lane_origins[..len]);
-                    directions.copy_from_slice(&lane_directions[..len]);
-                }
-            });
+        let rays = (&mut batch.origin[..n], &mut batch.direction[..n]);
+        for_each_ray_group(&batch.pixel[..n], rays, |pixels, origins, directions| {
+            self.focus_group(pose, lanes.sample_lanes(*pixels), origins, directions)
+        });
     }
 
     /// [`ThinLens::focus`] of a group of `LANES` camera-space rays in the batch's columns,
