@@ -3,7 +3,7 @@
 foton's BVH (one thread, criterion) against Embree (PyPI embreex, one thread: the binding
 traces a batch with one rtcIntersect1 per ray), in one run.
 
-    python3 -m venv .venv-peers && .venv-peers/bin/pip install embreex numpy
+    bash scripts/peers/setup.sh
     .venv-peers/bin/python scripts/peers/embree_compare.py
 
 `cargo bench --bench bvh` writes the mesh and rays to target/bvh-peer/ (raw f32: 9 per

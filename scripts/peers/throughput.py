@@ -4,7 +4,7 @@
 Run from the repository root (after `bash scripts/peers/setup.sh` and `cargo build --release`):
 
     .venv-peers/bin/python scripts/peers/throughput.py [--spp 64] [--repeat 3] [--rounds 3]
-        [--foton BIN] [--baseline OLD_BIN]
+        [--foton BIN] [--baseline OLD_BIN] [--process]
 
 For each of scripts/peers/{furnace,dof-sky,cornell}.xml, Mitsuba 3's render call compiles its
 kernels once, then --rounds rounds alternate, seconds apart: `foton bench FILE --spp N
@@ -14,6 +14,10 @@ speed drifts by up to 30 % within minutes, so each round's ratio is taken betwee
 and the table gives the median of the rounds' ratios (with their range) beside the medians of
 the speeds. Prints a Markdown table with the load average before and after. About 1 minute a
 round.
+
+With --process, foton's speed is that of its whole process instead, as issue 6's target reads
+it: the median wall time of R runs of `foton render FILE --spp N -o TMP.exr`, each a fresh
+process that starts, loads the scene, builds the BVH, renders and writes the image.
 """
 
 import argparse
@@ -22,6 +26,7 @@ import re
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -48,6 +53,26 @@ def foton_paths_per_second(foton, scene, spp, repeat):
     if not match:
         sys.exit(f"error: no median in foton bench's output for {scene}:\n{out}")
     return float(match.group(1)) * 1e6
+
+
+def foton_process_samples_per_second(foton, scene, spp, repeat, samples):
+    with tempfile.TemporaryDirectory() as directory:
+        output = Path(directory) / "image.exr"
+        command = [str(foton), "render", str(scene), "--spp", str(spp), "-o", str(output)]
+        seconds = []
+        for _ in range(repeat):
+            start = time.perf_counter()
+            subprocess.run(command, check=True, capture_output=True)
+            seconds.append(time.perf_counter() - start)
+    return samples / statistics.median(seconds)
+
+
+def foton_speed(foton, scene, args, samples):
+    """foton's samples per second on `scene`: its whole process's with --process, else its
+    bench's; `samples` is the render's count (width x height x spp)."""
+    if args.process:
+        return foton_process_samples_per_second(foton, scene, args.spp, args.repeat, samples)
+    return foton_paths_per_second(foton, scene, args.spp, args.repeat)
 
 
 class Mitsuba:
@@ -89,6 +114,9 @@ def main():
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--foton", type=Path, default=REPO / "target/release/foton")
     parser.add_argument("--baseline", type=Path, help="another foton binary, alternated with --foton")
+    parser.add_argument(
+        "--process", action="store_true", help="time foton's whole process (`render`), not its `bench`"
+    )
     args = parser.parse_args()
     for binary in filter(None, [args.foton, args.baseline]):
         if not binary.exists():
@@ -104,17 +132,18 @@ def main():
             # Mitsuba's threads stay busy for some hundred milliseconds after a render call
             # (see equal_time.py): foton's bench starts after a pause.
             time.sleep(1.0)
-            fotons.append(foton_paths_per_second(args.foton, scene, args.spp, args.repeat))
+            fotons.append(foton_speed(args.foton, scene, args, mitsuba.samples))
             if args.baseline:
-                baselines.append(foton_paths_per_second(args.baseline, scene, args.spp, args.repeat))
+                baselines.append(foton_speed(args.baseline, scene, args, mitsuba.samples))
             mitsubas.append(mitsuba.samples_per_second(args.repeat))
             line = f"{name} round {round + 1}: foton {fotons[-1] / 1e6:.2f} M/s"
             if args.baseline:
                 line += f", baseline {baselines[-1] / 1e6:.2f} M/s"
             print(f"{line}, Mitsuba {mitsubas[-1] / 1e6:.2f} M/s", file=sys.stderr)
         rows.append((name, fotons, baselines, mitsubas))
+    measured = "whole processes" if args.process else "renders (foton bench)"
     print(
-        f"{args.spp} spp; {args.rounds} alternating rounds, each the median of {args.repeat} renders; "
+        f"{args.spp} spp; {args.rounds} alternating rounds, each the median of {args.repeat} {measured}; "
         f"load average before {before}, after {load_average()}\n"
     )
     header = "| scene | foton M samples/s | Mitsuba 3 llvm_ad_rgb M samples/s | foton / Mitsuba |"
